@@ -1,0 +1,66 @@
+"""Entry point of the ``mjstruct`` command: parses arguments, dispatches, maps errors
+to exit statuses (0 success, 2 bad input or usage, 1 internal or numerical error).
+
+Each command lives in its own module of this package with ``add_arguments(parser)``
+and ``run(args) -> int``; :data:`COMMANDS` lists them in the order ``--help`` shows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from mjstruct.errors import MechanismError, NumericalError
+
+COMMANDS: dict[str, str] = {
+    "analyze": "structural report of a mechanism file or of a structural code",
+    "iso": "exact isomorphism of two mechanism files",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="mjstruct", description="Structural analysis of planar linkages with multiple joints.")
+    from mjstruct import __version__
+
+    parser.add_argument("--version", action="version", version=f"mjstruct {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    for name, help_text in COMMANDS.items():
+        module = importlib.import_module(f"mjstruct.cli.{name}")
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args._run(args))
+    except MechanismError as exc:
+        sys.stderr.write(f"mjstruct {args.command}: {exc}\n")
+        return 2
+    except NumericalError as exc:
+        sys.stderr.write(f"mjstruct {args.command}: numerical trouble: {exc}\n")
+        return 1
+    except KeyboardInterrupt:
+        sys.stderr.write("mjstruct: interrupted\n")
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as exc:  # an internal error still gets one line, not a traceback
+        sys.stderr.write(f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}\n")
+        return 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

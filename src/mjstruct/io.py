@@ -1,0 +1,199 @@
+"""Reading and writing mechanisms: the contract's JSON (and TOML), plain networkx graphs.
+
+Every reader validates and raises :class:`~mjstruct.errors.MechanismError` with a
+one-line message naming the field.
+
+Examples
+--------
+>>> m = mechanism_from_dict({"joints": [{"id": "a", "links": [0, 1]},
+...     {"id": "b", "links": [1, 2]}, {"id": "c", "links": [2, 3]},
+...     {"id": "d", "links": [3, 0]}], "frame": 0})
+>>> m.links, m.frame
+(('0', '1', '2', '3'), '0')
+>>> mechanism_to_dict(m)["joints"][0]
+{'id': 'a', 'links': ['0', '1']}
+"""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import networkx as nx
+
+from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Joint, Mechanism, Point
+
+_KNOWN_KEYS = {"name", "frame", "joints", "links", "drivers", "points"}
+
+
+def read_mechanism(path: str | Path) -> Mechanism:
+    """Read a mechanism file (``.json``, or ``.toml``)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise MechanismError(f"{p}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MechanismError(f"{p}: cannot read ({exc.__class__.__name__})") from None
+    return parse_mechanism(text, toml=p.suffix.lower() == ".toml", source=str(p))
+
+
+def parse_mechanism(text: str, toml: bool = False, source: str = "input") -> Mechanism:
+    """Parse mechanism text (JSON by default)."""
+    try:
+        data = tomllib.loads(text) if toml else json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise MechanismError(
+            f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
+        ) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise MechanismError(f"{source}: not valid TOML ({exc})") from None
+    return mechanism_from_dict(data)
+
+
+def _ident(value: Any, where: str) -> str:
+    if isinstance(value, bool) or not isinstance(value, (str, int)):
+        raise MechanismError(f"{where}: an id must be a string or an integer, got {value!r}")
+    return str(value)
+
+
+def _xy(value: Any, where: str) -> tuple[float, float]:
+    ok = isinstance(value, (list, tuple)) and len(value) == 2
+    if ok and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+        x, y = float(value[0]), float(value[1])
+        if x == x and y == y and abs(x) != float("inf") and abs(y) != float("inf"):
+            return (x, y)
+    raise MechanismError(f"{where}: expected [x, y] with two finite numbers, got {value!r}")
+
+
+def mechanism_from_dict(data: Any) -> Mechanism:
+    """Build a validated :class:`Mechanism` from the contract's object."""
+    if not isinstance(data, Mapping):
+        raise MechanismError("mechanism: the top level must be an object")
+    if "joints" not in data:
+        raise MechanismError("joints: missing (a mechanism needs a list of joints)")
+    raw_joints = data["joints"]
+    if not isinstance(raw_joints, list):
+        raise MechanismError("joints: must be a list")
+    joints = []
+    order: dict[str, None] = {}
+    for k, rj in enumerate(raw_joints):
+        where = f"joints[{k}]"
+        if not isinstance(rj, Mapping):
+            raise MechanismError(f"{where}: must be an object with 'id' and 'links'")
+        if "id" not in rj:
+            raise MechanismError(f"{where}.id: missing")
+        if "links" not in rj:
+            raise MechanismError(f"{where}.links: missing")
+        if not isinstance(rj["links"], list):
+            raise MechanismError(f"{where}.links: must be a list of link ids")
+        links = tuple(_ident(x, f"{where}.links") for x in rj["links"])
+        order.update(dict.fromkeys(links))
+        kind = rj.get("type", "R")
+        if not isinstance(kind, str):
+            raise MechanismError(f"{where}.type: unknown joint type {kind!r} (expected R or P)")
+        at = _xy(rj["at"], f"{where}.at") if "at" in rj else None
+        axis = _xy(rj["axis"], f"{where}.axis") if "axis" in rj else None
+        if axis is not None and axis == (0.0, 0.0):
+            raise MechanismError(f"{where}.axis: the guide direction must not be zero")
+        joints.append(Joint(_ident(rj["id"], f"{where}.id"), links, kind.upper(), at, axis))
+
+    if "links" in data:
+        if not isinstance(data["links"], list):
+            raise MechanismError("links: must be a list of link ids")
+        links = tuple(_ident(x, "links") for x in data["links"])
+    else:
+        links = tuple(order)
+
+    frame = data.get("frame")
+    frame_id = None if frame is None else _ident(frame, "frame")
+    drivers = data.get("drivers", [])
+    if not isinstance(drivers, list):
+        raise MechanismError("drivers: must be a list of joint ids")
+    points = []
+    raw_points = data.get("points", [])
+    if not isinstance(raw_points, list):
+        raise MechanismError("points: must be a list")
+    for k, rp in enumerate(raw_points):
+        if not isinstance(rp, Mapping) or not {"id", "link", "at"} <= set(rp):
+            raise MechanismError(f"points[{k}]: needs 'id', 'link' and 'at'")
+        points.append(
+            Point(
+                _ident(rp["id"], f"points[{k}].id"),
+                _ident(rp["link"], f"points[{k}].link"),
+                _xy(rp["at"], f"points[{k}].at"),
+            )
+        )
+    name = data.get("name", "")
+    extra = {k: v for k, v in data.items() if k not in _KNOWN_KEYS}
+    return Mechanism(
+        links=links,
+        joints=tuple(joints),
+        frame=frame_id,
+        drivers=tuple(_ident(d, "drivers") for d in drivers),
+        name=str(name),
+        points=tuple(points),
+        extra=extra,
+    )
+
+
+def mechanism_to_dict(m: Mechanism) -> dict[str, Any]:
+    """The contract's object for ``m`` (round-trips through :func:`mechanism_from_dict`)."""
+    out: dict[str, Any] = {}
+    if m.name:
+        out["name"] = m.name
+    if m.frame is not None:
+        out["frame"] = m.frame
+    out["links"] = list(m.links)
+    joints = []
+    for j in m.joints:
+        d: dict[str, Any] = {"id": j.id, "links": list(j.links)}
+        if j.kind != "R":
+            d["type"] = j.kind
+        if j.at is not None:
+            d["at"] = list(j.at)
+        if j.axis is not None:
+            d["axis"] = list(j.axis)
+        joints.append(d)
+    out["joints"] = joints
+    if m.drivers:
+        out["drivers"] = list(m.drivers)
+    if m.points:
+        out["points"] = [{"id": p.id, "link": p.link, "at": list(p.at)} for p in m.points]
+    out.update(m.extra)
+    # keep the doctest's short form: no links key when it adds nothing
+    if list(m.links) == list(dict.fromkeys(x for j in m.joints for x in j.links)):
+        del out["links"]
+    return out
+
+
+def from_link_graph(
+    g: nx.Graph, frame: Any = None, drivers: Any = (), name: str = ""
+) -> Mechanism:
+    """A simple-joint mechanism from a graph whose nodes are links and edges joints.
+
+    Edge attribute ``type`` ("R"/"P") and ``id`` are used when present; a plain link
+    graph cannot express a multiple joint, so every edge becomes a simple joint.
+    """
+    if g.is_multigraph():
+        raise MechanismError("graph: parallel edges (two joints between two links) are not a chain")
+    joints = []
+    for k, (u, v, d) in enumerate(sorted(g.edges(data=True), key=lambda e: (str(e[0]), str(e[1])))):
+        joints.append(Joint(str(d.get("id", f"J{k}")), (str(u), str(v)), str(d.get("type", "R"))))
+    links = tuple(str(x) for x in g.nodes)
+    return Mechanism(
+        links=links,
+        joints=tuple(joints),
+        frame=None if frame is None else str(frame),
+        drivers=tuple(str(d) for d in drivers),
+        name=name,
+    )
+
+
+def to_networkx(m: Mechanism) -> nx.Graph:
+    """The bipartite link–joint graph (see :meth:`Mechanism.graph`)."""
+    return m.graph()

@@ -1,0 +1,215 @@
+"""The link–joint model: links, joints of any multiplicity, frame and drivers.
+
+A joint joins two or more links on one axis, so a multiple joint (MJ) is one object
+and never torn into pairs.  The structure is the bipartite link–joint graph returned
+by :meth:`Mechanism.graph`; every structural function works on a :class:`Mechanism`.
+
+Examples
+--------
+>>> m = Mechanism.build([("O1", ["0", "1"]), ("A", ["1", "2", "3"]),
+...                      ("B", ["2", "0"]), ("C", ["3", "0"])], frame="0")
+>>> m.joint("A").multiplicity
+2
+>>> sorted(m.graph().nodes)[:2]
+[('joint', 'A'), ('joint', 'B')]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import networkx as nx
+
+from mjstruct.errors import MechanismError
+
+JOINT_KINDS = ("R", "P")
+
+LINK = "link"
+JOINT = "joint"
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A lower pair joining ``len(links) >= 2`` links on one axis.
+
+    ``links`` keeps the file's order: the first link is the reference for the
+    joint's relative coordinate and the carrier when the joint is expanded into
+    simple-joint equivalents.
+    """
+
+    id: str
+    links: tuple[str, ...]
+    kind: str = "R"
+    at: tuple[float, float] | None = None
+    axis: tuple[float, float] | None = None
+
+    @property
+    def multiplicity(self) -> int:
+        """j = m - 1: the number of simple joints this joint is equivalent to."""
+        return len(self.links) - 1
+
+    @property
+    def is_multiple(self) -> bool:
+        return len(self.links) > 2
+
+
+@dataclass(frozen=True)
+class Point:
+    """A point of interest fixed to a link (coupler point, centre of mass)."""
+
+    id: str
+    link: str
+    at: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A chain (no frame) or a mechanism (frame and drivers) with multiple joints.
+
+    Build one with :meth:`build` or :func:`mjstruct.io.mechanism_from_dict`; both
+    validate.  ``extra`` keeps the file's further keys (masses, forces) untouched.
+    """
+
+    links: tuple[str, ...]
+    joints: tuple[Joint, ...]
+    frame: str | None = None
+    drivers: tuple[str, ...] = ()
+    name: str = ""
+    points: tuple[Point, ...] = ()
+    extra: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        validate(self)
+
+    @classmethod
+    def build(
+        cls,
+        joints: Iterable[tuple[str, Sequence[Any]] | tuple[str, Sequence[Any], str]],
+        frame: Any = None,
+        drivers: Iterable[str] = (),
+        name: str = "",
+    ) -> Mechanism:
+        """Build from ``(id, links[, kind])`` tuples; links are listed in first-seen order."""
+        js = []
+        order: dict[str, None] = {}
+        for spec in joints:
+            jid, links = spec[0], spec[1]
+            kind = spec[2] if len(spec) > 2 else "R"  # type: ignore[misc]
+            ls = tuple(str(x) for x in links)
+            order.update(dict.fromkeys(ls))
+            js.append(Joint(str(jid), ls, str(kind)))
+        return cls(
+            links=tuple(order),
+            joints=tuple(js),
+            frame=None if frame is None else str(frame),
+            drivers=tuple(str(d) for d in drivers),
+            name=name,
+        )
+
+    # -- look-ups ---------------------------------------------------------
+    @cached_property
+    def _joint_index(self) -> dict[str, Joint]:
+        return {j.id: j for j in self.joints}
+
+    def joint(self, joint_id: str) -> Joint:
+        return self._joint_index[joint_id]
+
+    @cached_property
+    def link_joints(self) -> dict[str, tuple[str, ...]]:
+        """For each link, the ids of the joints it takes part in (file order)."""
+        out: dict[str, list[str]] = {link: [] for link in self.links}
+        for j in self.joints:
+            for link in j.links:
+                out[link].append(j.id)
+        return {k: tuple(v) for k, v in out.items()}
+
+    @property
+    def n(self) -> int:
+        """Number of links, frame included."""
+        return len(self.links)
+
+    def graph(self) -> nx.Graph:
+        """The bipartite link–joint graph (a fresh copy; nodes ``(kind, id)``).
+
+        Link nodes carry ``frame`` (bool); joint nodes carry ``type`` and ``driver``.
+        """
+        return self._graph.copy()
+
+    @cached_property
+    def _graph(self) -> nx.Graph:
+        g = nx.Graph()
+        drivers = set(self.drivers)
+        for link in self.links:
+            g.add_node((LINK, link), bipartite=0, frame=link == self.frame)
+        for j in self.joints:
+            g.add_node((JOINT, j.id), bipartite=1, type=j.kind, driver=j.id in drivers)
+            g.add_edges_from(((JOINT, j.id), (LINK, link)) for link in j.links)
+        return g
+
+    def with_drivers(self, drivers: Iterable[str]) -> Mechanism:
+        """The same mechanism with another set of driven joints."""
+        return Mechanism(
+            links=self.links,
+            joints=self.joints,
+            frame=self.frame,
+            drivers=tuple(drivers),
+            name=self.name,
+            points=self.points,
+            extra=self.extra,
+        )
+
+
+def validate(m: Mechanism) -> None:
+    """Raise :class:`MechanismError` naming the first problem found."""
+    if not m.joints:
+        raise MechanismError("joints: a chain needs at least one joint")
+    if len(set(m.links)) != len(m.links):
+        dup = next(x for x in m.links if m.links.count(x) > 1)
+        raise MechanismError(f"links: duplicate link id {dup!r}")
+    known = set(m.links)
+    seen: set[str] = set()
+    used: set[str] = set()
+    for k, j in enumerate(m.joints):
+        where = f"joints[{k}]"
+        if j.id in seen:
+            raise MechanismError(f"{where}.id: duplicate joint id {j.id!r}")
+        seen.add(j.id)
+        if len(j.links) < 2:
+            raise MechanismError(
+                f"{where}.links: joint {j.id!r} joins {len(j.links)} link(s); a joint needs >= 2"
+            )
+        if len(set(j.links)) != len(j.links):
+            dup = next(x for x in j.links if j.links.count(x) > 1)
+            raise MechanismError(f"{where}.links: link {dup!r} appears twice in joint {j.id!r}")
+        for link in j.links:
+            if link not in known:
+                raise MechanismError(f"{where}.links: unknown link {link!r} in joint {j.id!r}")
+        if j.kind not in JOINT_KINDS:
+            raise MechanismError(
+                f"{where}.type: unknown joint type {j.kind!r} (expected one of R, P)"
+            )
+        used.update(j.links)
+    idle = [x for x in m.links if x not in used]
+    if idle:
+        raise MechanismError(f"links: link {idle[0]!r} takes part in no joint")
+    if m.frame is not None and m.frame not in known:
+        raise MechanismError(f"frame: unknown link {m.frame!r}")
+    for d in m.drivers:
+        if d not in seen:
+            raise MechanismError(f"drivers: {d!r} is not a joint id")
+    if len(set(m.drivers)) != len(m.drivers):
+        raise MechanismError("drivers: a joint is listed twice")
+    for p in m.points:
+        if p.link not in known:
+            raise MechanismError(f"points: point {p.id!r} is on unknown link {p.link!r}")
+    if not nx.is_connected(m._graph):
+        parts = sorted(
+            (sorted(v for kind, v in comp if kind == LINK) for comp in nx.connected_components(m._graph)),
+            key=len,
+        )
+        raise MechanismError(
+            f"joints: the chain is disconnected (links {', '.join(parts[0])} form a separate part)"
+        )

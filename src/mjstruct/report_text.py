@@ -1,0 +1,119 @@
+"""Plain-text rendering of a :class:`~mjstruct.report.StructuralReport` in the seed's style:
+one bullet per quantity, each formula written out with the numbers put in, and both
+formulas where the seed gives two.
+"""
+
+from __future__ import annotations
+
+from mjstruct.report import StructuralReport
+
+
+def _terms(coeffs: list[tuple[int, str, int]]) -> tuple[str, str]:
+    """Symbolic and numeric sums of ``coeff * symbol`` terms with value ``count``."""
+    sym = " + ".join((f"{c}{s}" if c != 1 else s) for c, s, _ in coeffs) or "0"
+    num = " + ".join((f"{c}·{v}" if c != 1 else str(v)) for c, _, v in coeffs) or "0"
+    return sym, num
+
+
+def render(r: StructuralReport) -> str:
+    a = r.assortment
+    la = list(a.LA)
+    nsym = [f"n{k + 2}" for k in range(len(la))]
+    out = [f"Structural analysis: {r.name or '(unnamed)'}"]
+    if a.n1:
+        out.append(f"! {a.n1} link(s) have a single joint: the chain is open there")
+
+    def bullet(text: str) -> None:
+        out.append("• " + text)
+
+    bullet(
+        f"number and assortment of links: n = {' + '.join(nsym)} = "
+        f"{' + '.join(map(str, la))}{f' + {a.n1} (single-joint)' if a.n1 else ''} = {a.n}; "
+        f"[LA] = [{' '.join(map(str, la))}]"
+    )
+    if r.mja_known:
+        mja = list(a.MJA)
+        msym = [f"ν{k + 2}" for k in range(len(mja))]
+        bullet(
+            "MJ assortment: [MJA] = "
+            + (f"[{' '.join(msym)}] = [{' '.join(map(str, mja))}]" if mja else "[] (simple joints only)")
+        )
+        vs, vn = _terms([(k + 1, f"ν{k + 2}", nu) for k, nu in enumerate(mja)])
+        bullet(f"MJ factor: V = {vs} = {vn} = {a.V}")
+    else:
+        bullet(f"MJ factor: V = {a.V} ([MJA] not given by the code)")
+    if r.p is not None:
+        bullet(f"simple-joint equivalents: p = Σ j = {r.p}")
+
+    ex = [(k, f"n{k + 2}", ni) for k, ni in enumerate(la) if k >= 1]
+    es, en = _terms(ex)
+    kf = r.K_values["formula"]
+    line = f"independent loops: K = 1 + (V + {es})/2 = 1 + ({a.V} + {en})/2 = {_n(kf)}"
+    if "cycle_rank" in r.K_values:
+        line += f"; cycle rank of the link–joint graph = {_n(r.K_values['cycle_rank'])}"
+        line += f"; p − n + 1 = {r.p} − {a.n} + 1 = {_n(r.K_values['euler'])}"
+    if "dof" in r.K_values:
+        line += f"; from F: K = (n − 1 − F)/{r.lam - 1} = {_n(r.K_values['dof'])}"
+    bullet(line)
+    bullet(f"all loops, outer L0 included: L = K + 1 = {_n(r.K + 1)}")
+    bullet(
+        f"assembly verification criterion: AVC = 2(K − 1) − (V + {es}) = "
+        f"{_n(2 * (r.K - 1))} − {a.V + a.excess} = {_n(r.AVC)}"
+    )
+    fl = f"F = (n − 1) − {r.lam - 1}K = {a.n - 1} − {_n((r.lam - 1) * r.K)} = {_n(r.F)}"
+    parts = []
+    if "assortment" in r.F_values:
+        beyond = [(k - 1, f"n{k + 2}", ni) for k, ni in enumerate(la) if k >= 2]
+        bs, bn = _terms(beyond)
+        n2 = la[0] if la else 0
+        parts.append(
+            f"F = n2 − 3 − V − ({bs}) = {n2} − 3 − {a.V} − ({bn}) = {_n(r.F_values['assortment'])}"
+        )
+    parts.append(fl)
+    if "grubler" in r.F_values:
+        parts.append(
+            f"Grübler F = {r.lam}(n − 1) − {r.lam - 1}p = {r.lam * (a.n - 1)} − "
+            f"{(r.lam - 1) * (r.p or 0)} = {_n(r.F_values['grubler'])}"
+        )
+    bullet("degrees of freedom: " + "; ".join(parts))
+    d = r.to_dict()
+    sides = " + ".join(f"{k + 2}·{ni}" for k, ni in enumerate(la) if ni)
+    bullet(
+        f"sum of sides of all loops: S_L = 2(F + 3K) − V = {_n(d['checks']['S_L']['2(F+3K)-V'])}; "
+        f"S_L = Σ i·n_i = {sides} = {r.S_L}"
+    )
+    if r.source == "graph":
+        if r.loops is not None:
+            bullet(
+                f"loop assortment: [L] = [{' '.join(map(str, r.loops))}], Σ = {sum(r.loops)} "
+                f"(drawing: {r.loops_rule})"
+            )
+        else:
+            bullet(f"loop assortment: none — {r.loops_note}")
+    bullet(
+        f"redundant constraints, N = {r.N}: rc = N − F = {r.N} − {_n(r.F)} = {_n(r.rc)}"
+        + (f" (seed's form: {d['checks']['rc']['seed']})" if "seed" in d["checks"]["rc"] else "")
+    )
+    if r.code is not None:
+        star = f"; Code* = {r.code_star}" if r.code_star else ""
+        bullet(f"structural code: Code = {r.code}{star}")
+    if r.canonical:
+        bullet(f"canonical code (chain): {r.canonical}")
+    if r.canonical_mechanism:
+        bullet(f"canonical code (mechanism: frame and drivers coloured): {r.canonical_mechanism}")
+    if r.violations:
+        out.append("Violations:")
+        out.extend(f"  ✗ {v}" for v in r.violations)
+    elif r.rc != 0:
+        out.append(
+            f"Note: rc = {_n(r.rc)} ≠ 0: "
+            + ("over-driven / redundant constraints" if r.rc > 0 else "fewer drivers than DOF")
+        )
+    return "\n".join(out)
+
+
+def _n(x: object) -> str:
+    from fractions import Fraction
+
+    f = Fraction(x)  # type: ignore[arg-type]
+    return str(f.numerator) if f.denominator == 1 else f"{float(f):g}"

@@ -1,0 +1,1 @@
+"""Structural quantities of chains with multiple joints (graph-centred core)."""

@@ -1,0 +1,158 @@
+"""Loop assortment [L]: face sizes of a planar drawing of the link–joint graph.
+
+A face of the bipartite graph alternates links and joints; its size is the number of
+links on it (half its boundary walk).  There are L = K + 1 faces, the outer one
+included, and their sizes add up to S_L.
+
+Which drawing?  A graph that is not (a subdivision of) a 3-connected one has several
+planar embeddings with different face sizes.  Rule, in order:
+
+1. ``"minimal"``: over all embeddings, the sorted face-size list that is smallest
+   lexicographically (most small loops first: the drawing a designer makes, e.g.
+   the seed's [4 4 4 4 13] for the excavator).  This is a graph invariant.  It is
+   found by enumerating rotation systems of the graph with degree-2 vertices
+   suppressed, when there are at most :data:`EXACT_LIMIT` of them.
+2. ``"canonical"``: otherwise, the embedding networkx finds for the graph relabelled
+   in nauty's canonical order: deterministic and independent of labels and input
+   order, but one embedding among several.
+
+A non-planar chain has no [L]: :func:`loop_assortment` returns ``None``.
+
+Examples
+--------
+>>> from mjstruct.mechanism import Mechanism
+>>> four_bar = Mechanism.build([("a", [0, 1]), ("b", [1, 2]), ("c", [2, 3]), ("d", [3, 0])])
+>>> loop_assortment(four_bar)
+LoopAssortment(sizes=(4, 4), rule='minimal')
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import networkx as nx
+
+from mjstruct.mechanism import Mechanism
+
+EXACT_LIMIT = 20_000
+
+
+@dataclass(frozen=True)
+class LoopAssortment:
+    """Sorted face sizes (in links) and the rule that chose the embedding."""
+
+    sizes: tuple[int, ...]
+    rule: str
+
+
+def is_planar(m: Mechanism) -> bool:
+    """Whether the link–joint graph has a planar drawing."""
+    return bool(nx.check_planarity(m.graph())[0])
+
+
+def _suppressed(g: nx.Graph) -> tuple[list, list[tuple[object, object, int]]]:
+    """Branch vertices (degree != 2) and the paths between them as weighted edges."""
+    branch = [v for v in g if g.degree(v) != 2]
+    is_branch = set(branch)
+    seen: set[frozenset] = set()
+    edges = []
+    for u in branch:
+        for w in g[u]:
+            if frozenset((u, w)) in seen:
+                continue
+            prev, cur, length = u, w, 1
+            seen.add(frozenset((u, w)))
+            while cur not in is_branch:
+                nxt = next(x for x in g[cur] if x != prev)
+                seen.add(frozenset((cur, nxt)))
+                prev, cur, length = cur, nxt, length + 1
+            edges.append((u, cur, length))
+    return branch, edges
+
+
+def _rotation_count(g: nx.Graph, branch: list) -> int:
+    return math.prod(math.factorial(max(g.degree(v) - 1, 0)) for v in branch)
+
+
+def _minimal_faces(g: nx.Graph) -> tuple[int, ...] | None:
+    branch, edges = _suppressed(g)
+    if not branch:  # a single cycle
+        half = g.number_of_edges() // 2
+        return (half, half)
+    if _rotation_count(g, branch) > EXACT_LIMIT:
+        return None
+    # half-edge h = 2 * edge + end; end 0 sits at edges[e][0], end 1 at edges[e][1]
+    at: dict[object, list[int]] = {v: [] for v in branch}
+    for e, (u, v, _) in enumerate(edges):
+        at[u].append(2 * e)
+        at[v].append(2 * e + 1)
+    lengths = [length for _, _, length in edges]
+    n_half = 2 * len(edges)
+    faces_needed = len(edges) - len(branch) + 2
+    choices = [
+        [(hs[0], *perm) for perm in itertools.permutations(hs[1:])] for hs in at.values()
+    ]
+    best: tuple[int, ...] | None = None
+    nxt = [0] * n_half
+    for rotation in itertools.product(*choices):
+        for cyc in rotation:
+            for k, h in enumerate(cyc):
+                nxt[h] = cyc[(k + 1) % len(cyc)]
+        visited = [False] * n_half
+        sizes = []
+        for start in range(n_half):
+            if visited[start]:
+                continue
+            walk, h = 0, start
+            while not visited[h]:
+                visited[h] = True
+                walk += lengths[h >> 1]
+                h = nxt[h ^ 1]  # cross the edge, then turn to the next half-edge
+            sizes.append(walk // 2)
+            if len(sizes) > faces_needed:
+                break
+        if len(sizes) == faces_needed:
+            key = tuple(sorted(sizes))
+            if best is None or key < best:
+                best = key
+    return best
+
+
+def _canonical_faces(m: Mechanism) -> tuple[int, ...]:
+    import pynauty
+
+    from mjstruct.structure.isomorphism import _colour_classes
+
+    classes, link_ix, joint_ix = _colour_classes(m, "chain")
+    adjacency = {joint_ix[j.id]: [link_ix[x] for x in j.links] for j in m.joints}
+    n_nodes = len(link_ix) + len(joint_ix)
+    pg = pynauty.Graph(n_nodes, adjacency_dict=adjacency, vertex_coloring=[set(c) for c in classes])
+    order = pynauty.canon_label(pg)  # order[k] = original vertex placed k-th
+    rank = {v: k for k, v in enumerate(order)}
+    cg = nx.Graph()
+    cg.add_nodes_from(range(n_nodes))
+    cg.add_edges_from(
+        sorted(tuple(sorted((rank[j], rank[x]))) for j, xs in adjacency.items() for x in xs)
+    )
+    planar, emb = nx.check_planarity(cg)
+    assert planar
+    seen: set[tuple[int, int]] = set()
+    sizes = []
+    for u, v in sorted(emb.edges()):
+        if (u, v) not in seen:
+            face = emb.traverse_face(u, v, mark_half_edges=seen)
+            sizes.append(len(face) // 2)
+    return tuple(sorted(sizes))
+
+
+def loop_assortment(m: Mechanism) -> LoopAssortment | None:
+    """[L] of a planar chain (see the module text for which drawing); None if not planar."""
+    g = m.graph()
+    if not nx.check_planarity(g)[0]:
+        return None
+    exact = _minimal_faces(g)
+    if exact is not None:
+        return LoopAssortment(exact, "minimal")
+    return LoopAssortment(_canonical_faces(m), "canonical")

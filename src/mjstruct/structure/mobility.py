@@ -1,0 +1,109 @@
+"""Loops K, the AVC check, DOF F, redundant constraints rc and loop side sums S_L.
+
+Each quantity the seed gives two ways is computed both ways, so a report can show
+that they agree.  Values are :class:`~fractions.Fraction` where an inconsistent code
+can make them non-integral (K from an assortment whose parity is wrong).
+
+λ is the dimension of the motion space (3 for planar mechanisms); with one-freedom
+pairs F = λ(n - 1) - (λ - 1) p = (n - 1) - (λ - 1) K.
+
+Examples
+--------
+>>> from mjstruct.structure.assortments import Assortment
+>>> a = Assortment(LA=(8, 1, 1), MJA=(3,))
+>>> loops_by_formula(a), dof_by_loops(a.n, 4), dof_by_assortment(a)
+(Fraction(4, 1), Fraction(1, 1), 1)
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import networkx as nx
+
+from mjstruct.mechanism import Mechanism
+from mjstruct.structure.assortments import Assortment
+
+
+def loops_by_formula(a: Assortment) -> Fraction:
+    """K = 1 + (V + Σ (i - 2) n_i) / 2."""
+    return 1 + Fraction(a.V + a.excess, 2)
+
+
+def cycle_rank(m: Mechanism) -> int:
+    """Cycle rank of the bipartite link–joint graph: E - vertices + components."""
+    g = m.graph()
+    return g.number_of_edges() - g.number_of_nodes() + nx.number_connected_components(g)
+
+
+def loops_by_joints(n: int, p: int) -> int:
+    """K = p - n + 1 (Euler's formula on the simple-joint equivalents)."""
+    return p - n + 1
+
+
+def avc(a: Assortment, K: Fraction | int) -> Fraction:
+    """Assembly verification criterion 2(K - 1) - (V + Σ (i - 2) n_i); 0 when consistent."""
+    return 2 * (Fraction(K) - 1) - (a.V + a.excess)
+
+
+def dof_by_loops(n: int, K: Fraction | int, lam: int = 3) -> Fraction:
+    """F = (n - 1) - (λ - 1) K."""
+    return (n - 1) - (lam - 1) * Fraction(K)
+
+
+def dof_by_assortment(a: Assortment) -> int:
+    """F = n2 - 3 - V - n4 - 2 n5 - 3 n6 - ... (planar, λ = 3)."""
+    n2 = a.LA[0] if a.LA else 0
+    beyond = sum((k - 1) * ni for k, ni in enumerate(a.LA) if k >= 2)
+    return n2 - 3 - a.V - beyond + 2 * a.n1
+
+
+def dof_grubler(n: int, p: int, lam: int = 3) -> int:
+    """Chebyshev–Grübler F = λ(n - 1) - (λ - 1) p over simple-joint equivalents."""
+    return lam * (n - 1) - (lam - 1) * p
+
+
+def redundant_constraints(N: int, F: Fraction | int) -> Fraction:
+    """rc = N - F: drivers beyond the mobility (negative: under-driven)."""
+    return N - Fraction(F)
+
+
+def redundant_constraints_seed(a: Assortment, N: int) -> int:
+    """The seed's form rc = (N + V + 3) - (n2 - n4 - 2 n5 - ...), planar."""
+    n2 = a.LA[0] if a.LA else 0
+    beyond = sum((k - 1) * ni for k, ni in enumerate(a.LA) if k >= 2)
+    return (N + a.V + 3) - (n2 - beyond + 2 * a.n1)
+
+
+def side_sum(a: Assortment) -> int:
+    """S_L = Σ i n_i."""
+    return a.sides
+
+
+def side_sum_by_dof(F: Fraction | int, K: Fraction | int, V: int) -> Fraction:
+    """S_L = 2(F + 3K) - V (planar)."""
+    return 2 * (Fraction(F) + 3 * Fraction(K)) - V
+
+
+def theorem_violations(a: Assortment, K: Fraction | int) -> list[str]:
+    """The seed's consistency conditions that fail for this assortment and K."""
+    K = Fraction(K)
+    out = []
+    if (a.V + a.excess) % 2:
+        out.append(
+            f"parity: V + Σ(i-2)n_i = {a.V + a.excess} is odd, so no closed chain has this code"
+        )
+    av = avc(a, K)
+    if av != 0:
+        out.append(f"AVC = {_fmt(av)} != 0: no closed chain with K = {_fmt(K)} has this code")
+    if a.max_multiplicity > K:
+        out.append(f"j <= K fails: a joint of multiplicity {a.max_multiplicity} needs K >= it")
+    if a.V > 2 * (K - 1):
+        out.append(f"V <= 2(K - 1) fails: V = {a.V} > {_fmt(2 * (K - 1))}")
+    if K < 0:
+        out.append(f"K = {_fmt(K)} < 0")
+    return out
+
+
+def _fmt(x: Fraction) -> str:
+    return str(x.numerator) if x.denominator == 1 else f"{float(x):g}"
