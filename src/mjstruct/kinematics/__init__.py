@@ -1,0 +1,1 @@
+"""Kinematics plug-in: triangle-rule position analysis, analogs, branches, singularities."""

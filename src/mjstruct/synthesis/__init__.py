@@ -1,0 +1,1 @@
+"""Structural synthesis: cells, atlases of chains, catalog lookup."""
