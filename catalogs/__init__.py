@@ -1,0 +1,1 @@
+"""Shipped example mechanisms and generated catalogs (data only)."""
