@@ -11,12 +11,34 @@ from mjstruct.cli.main import COMMANDS
 ROOT = Path(__file__).resolve().parents[1]
 
 PUBLIC = [
-    "Assortment", "Joint", "Mechanism", "MechanismError", "NumericalError", "Point",
-    "StructuralReport", "assortment", "canonical_code", "code_report", "from_link_graph",
-    "full_code", "incidence_matrix", "is_isomorphic", "is_planar", "link_assortment",
-    "loop_assortment", "mechanism_from_dict", "mechanism_to_dict", "mj_assortment",
-    "mj_factor", "parse_code", "parse_mechanism", "read_mechanism", "simple_joint_count",
-    "structural_code", "structural_report", "to_networkx",
+    "Assortment",
+    "Joint",
+    "Mechanism",
+    "MechanismError",
+    "NumericalError",
+    "Point",
+    "StructuralReport",
+    "assortment",
+    "canonical_code",
+    "code_report",
+    "from_link_graph",
+    "full_code",
+    "incidence_matrix",
+    "is_isomorphic",
+    "is_planar",
+    "link_assortment",
+    "loop_assortment",
+    "mechanism_from_dict",
+    "mechanism_to_dict",
+    "mj_assortment",
+    "mj_factor",
+    "parse_code",
+    "parse_mechanism",
+    "read_mechanism",
+    "simple_joint_count",
+    "structural_code",
+    "structural_report",
+    "to_networkx",
 ]
 
 CLI = ["analyze", "iso"]
@@ -33,7 +55,9 @@ def test_cli_commands_pinned():
 
 
 def test_every_subpackage_is_packaged():
-    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    listed = set(
+        tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
+    )
     found = {
         ".".join(p.parent.relative_to(ROOT / "src").parts)
         for p in (ROOT / "src" / "mjstruct").rglob("__init__.py")

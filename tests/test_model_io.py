@@ -37,14 +37,16 @@ def test_from_link_graph_matches_file(examples):
 def test_zhivago_incidence_matches_seed_table_2(examples):
     m = read_mechanism(examples / "zhivago.json")
     inc = incidence_matrix(m)
-    seed = np.array([  # seed 000, Table 2 (rows: frame, links 1-5; columns k = 1..7)
-        [-1, 0, 0, 0, 0, 0, -1],
-        [1, -1, -1, 0, 0, 0, 0],
-        [0, 1, 0, 0, -1, 0, 0],
-        [0, 0, 1, -1, 0, 0, 0],
-        [0, 0, 0, 1, 1, 1, 0],
-        [0, 0, 0, 0, 0, -1, 1],
-    ])
+    seed = np.array(
+        [  # seed 000, Table 2 (rows: frame, links 1-5; columns k = 1..7)
+            [-1, 0, 0, 0, 0, 0, -1],
+            [1, -1, -1, 0, 0, 0, 0],
+            [0, 1, 0, 0, -1, 0, 0],
+            [0, 0, 1, -1, 0, 0, 0],
+            [0, 0, 0, 1, 1, 1, 0],
+            [0, 0, 0, 0, 0, -1, 1],
+        ]
+    )
     assert inc.matrix.tolist() == seed.tolist()
     assert inc.H.tolist() == [1] * 7
     assert not inc.matrix.sum(axis=0).any()

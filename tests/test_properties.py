@@ -5,8 +5,8 @@ from __future__ import annotations
 import random
 
 import networkx as nx
-from conftest import chains
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mjstruct.mechanism import Joint, Mechanism
 from mjstruct.report import structural_report
@@ -14,6 +14,7 @@ from mjstruct.structure import mobility as mob
 from mjstruct.structure.assortments import assortment, simple_joint_count
 from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.structure.loops import loop_assortment
+from strategies import chains
 
 
 def expanded_simple_graph(m: Mechanism) -> nx.MultiGraph:
@@ -77,7 +78,7 @@ def relabelled(m: Mechanism, seed: int) -> Mechanism:
 
 
 @settings(max_examples=100, deadline=None)
-@given(chains(), __import__("hypothesis").strategies.integers(0, 10**6))
+@given(chains(), st.integers(0, 10**6))
 def test_canonical_code_invariant_under_relabelling(m, seed):
     r = relabelled(m, seed)
     assert canonical_code(m) == canonical_code(r)
@@ -85,7 +86,7 @@ def test_canonical_code_invariant_under_relabelling(m, seed):
 
 
 @settings(max_examples=40, deadline=None)
-@given(chains(max_links=9, max_multiplicity=3), __import__("hypothesis").strategies.integers(0, 10**6))
+@given(chains(max_links=9, max_multiplicity=3), st.integers(0, 10**6))
 def test_loop_assortment_invariant_under_relabelling(m, seed):
     assert loop_assortment(m) == loop_assortment(relabelled(m, seed))
 

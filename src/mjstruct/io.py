@@ -180,9 +180,13 @@ def from_link_graph(
     graph cannot express a multiple joint, so every edge becomes a simple joint.
     """
     if g.is_multigraph():
-        raise MechanismError("graph: parallel edges (two joints between two links) are not a chain")
+        raise MechanismError(
+            "graph: parallel edges (two joints between two links) are not a chain"
+        )
     joints = []
-    for k, (u, v, d) in enumerate(sorted(g.edges(data=True), key=lambda e: (str(e[0]), str(e[1])))):
+    for k, (u, v, d) in enumerate(
+        sorted(g.edges(data=True), key=lambda e: (str(e[0]), str(e[1])))
+    ):
         joints.append(Joint(str(d.get("id", f"J{k}")), (str(u), str(v)), str(d.get("type", "R"))))
     links = tuple(str(x) for x in g.nodes)
     return Mechanism(

@@ -97,7 +97,7 @@ class Mechanism:
         order: dict[str, None] = {}
         for spec in joints:
             jid, links = spec[0], spec[1]
-            kind = spec[2] if len(spec) > 2 else "R"  # type: ignore[misc]
+            kind = spec[2] if len(spec) > 2 else "R"
             ls = tuple(str(x) for x in links)
             order.update(dict.fromkeys(ls))
             js.append(Joint(str(jid), ls, str(kind)))
@@ -207,7 +207,10 @@ def validate(m: Mechanism) -> None:
             raise MechanismError(f"points: point {p.id!r} is on unknown link {p.link!r}")
     if not nx.is_connected(m._graph):
         parts = sorted(
-            (sorted(v for kind, v in comp if kind == LINK) for comp in nx.connected_components(m._graph)),
+            (
+                sorted(v for kind, v in comp if kind == LINK)
+                for comp in nx.connected_components(m._graph)
+            ),
             key=len,
         )
         raise MechanismError(

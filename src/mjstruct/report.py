@@ -124,7 +124,11 @@ class StructuralReport:
                 },
                 "rc": {
                     "N-F": self.rc,
-                    **({"seed": mob.redundant_constraints_seed(a, self.N)} if self.lam == 3 else {}),
+                    **(
+                        {"seed": mob.redundant_constraints_seed(a, self.N)}
+                        if self.lam == 3
+                        else {}
+                    ),
                 },
             },
             "violations": self.violations,
@@ -163,7 +167,10 @@ def structural_report(m: Mechanism, lam: int = 3, with_loops: bool = True) -> St
 
         la = loop_assortment(m)
         if la is None:
-            r.loops_note = "the chain is not planar (its link–joint graph has a K5 or K3,3 minor), so it has no [L]"
+            r.loops_note = (
+                "the chain is not planar (its link–joint graph has a K5 or K3,3 minor), "
+                "so it has no [L]"
+            )
         else:
             r.loops, r.loops_rule = la.sizes, la.rule
     r.canonical = canonical_code(m)
@@ -172,7 +179,9 @@ def structural_report(m: Mechanism, lam: int = 3, with_loops: bool = True) -> St
     return r
 
 
-def code_report(code: str, dof: int | None = None, N: int | None = None, lam: int = 3) -> StructuralReport:
+def code_report(
+    code: str, dof: int | None = None, N: int | None = None, lam: int = 3
+) -> StructuralReport:
     """Quantities from a structural code alone; K from ``dof`` when given, else the formula."""
     a = parse_code(code)
     K_values: dict[str, Fraction | int] = {"formula": mob.loops_by_formula(a)}

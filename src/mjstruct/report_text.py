@@ -5,6 +5,8 @@ formulas where the seed gives two.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 from mjstruct.report import StructuralReport
 
 
@@ -36,7 +38,11 @@ def render(r: StructuralReport) -> str:
         msym = [f"ν{k + 2}" for k in range(len(mja))]
         bullet(
             "MJ assortment: [MJA] = "
-            + (f"[{' '.join(msym)}] = [{' '.join(map(str, mja))}]" if mja else "[] (simple joints only)")
+            + (
+                f"[{' '.join(msym)}] = [{' '.join(map(str, mja))}]"
+                if mja
+                else "[] (simple joints only)"
+            )
         )
         vs, vn = _terms([(k + 1, f"ν{k + 2}", nu) for k, nu in enumerate(mja)])
         bullet(f"MJ factor: V = {vs} = {vn} = {a.V}")
@@ -112,8 +118,6 @@ def render(r: StructuralReport) -> str:
     return "\n".join(out)
 
 
-def _n(x: object) -> str:
-    from fractions import Fraction
-
-    f = Fraction(x)  # type: ignore[arg-type]
+def _n(x: Fraction | int | float) -> str:
+    f = Fraction(x)
     return str(f.numerator) if f.denominator == 1 else f"{float(f):g}"

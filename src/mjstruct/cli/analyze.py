@@ -13,7 +13,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--code", help='structural code instead of a file, e.g. "[8110]/[3·0·0]"')
     p.add_argument("--dof", type=int, help="with --code: the intended DOF F (fixes K)")
     p.add_argument("--drivers", type=int, help="with --code: number of drivers N (default F)")
-    p.add_argument("--lambda", dest="lam", type=int, default=3, help="motion-space dimension (default 3)")
+    p.add_argument(
+        "--lambda", dest="lam", type=int, default=3, help="motion-space dimension (default 3)"
+    )
     p.add_argument("--no-loops", action="store_true", help="skip [L] (the embedding search)")
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
@@ -33,7 +35,9 @@ def run(args: argparse.Namespace) -> int:
             raise MechanismError("--dof and --drivers go with --code; a file has its own")
         from mjstruct.io import read_mechanism
 
-        r = structural_report(read_mechanism(args.file), lam=args.lam, with_loops=not args.no_loops)
+        r = structural_report(
+            read_mechanism(args.file), lam=args.lam, with_loops=not args.no_loops
+        )
     if args.json:
         emit_json(r.to_dict())
     else:

@@ -11,6 +11,7 @@ import argparse
 import importlib
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from mjstruct.errors import MechanismError, NumericalError
 
@@ -21,13 +22,15 @@ COMMANDS: dict[str, str] = {
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, exit 2
+    def error(self, message: str) -> NoReturn:  # one line, exit 2
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(2)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="mjstruct", description="Structural analysis of planar linkages with multiple joints.")
+    parser = _Parser(
+        prog="mjstruct", description="Structural analysis of planar linkages with multiple joints."
+    )
     from mjstruct import __version__
 
     parser.add_argument("--version", action="version", version=f"mjstruct {__version__}")
@@ -58,7 +61,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         return 0
     except Exception as exc:  # an internal error still gets one line, not a traceback
-        sys.stderr.write(f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}\n")
+        sys.stderr.write(
+            f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}\n"
+        )
         return 1
 
 

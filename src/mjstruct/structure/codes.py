@@ -65,7 +65,9 @@ def _parse_counts(body: str, what: str) -> tuple[int, ...]:
     elif "." in body:
         head, _, tail = body.partition(".")
         if "." in tail:
-            raise MechanismError(f"code: {what} [{body}] has more than one dot; separate counts with ·")
+            raise MechanismError(
+                f"code: {what} [{body}] has more than one dot; separate counts with ·"
+            )
         parts = [head, *tail]
     else:
         parts = list(body)

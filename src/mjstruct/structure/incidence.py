@@ -43,16 +43,15 @@ class IncidenceMatrix:
 def incidence_matrix(m: Mechanism) -> IncidenceMatrix:
     """Signed incidence of links and simple-joint equivalents (rows in ``m.links`` order)."""
     row = {link: i for i, link in enumerate(m.links)}
-    cols: list[tuple[str, str, str, int]] = []
+    cols: list[tuple[str, str, int, int]] = []  # name, joint, carrier row, other row
     for j in m.joints:
-        carrier = j.links[0]
         for k, other in enumerate(j.links[1:], start=1):
             name = j.id if k == 1 else f"{j.id}/{k}"
-            cols.append((name, j.id, carrier, row[other]))
+            cols.append((name, j.id, row[j.links[0]], row[other]))
     mat = np.zeros((len(m.links), len(cols)), dtype=int)
-    for c, (_, _, carrier, other) in enumerate(cols):
-        mat[row[carrier], c] = -1
-        mat[other, c] = 1
+    for c, (_, _, first_row, other_row) in enumerate(cols):
+        mat[first_row, c] = -1
+        mat[other_row, c] = 1
     kinds = {j.id: (2 if j.kind == "P" else 1) for j in m.joints}
     return IncidenceMatrix(
         links=m.links,

@@ -11,7 +11,9 @@ Examples
 --------
 >>> from mjstruct.mechanism import Mechanism
 >>> a = Mechanism.build([("a", [0, 1]), ("b", [1, 2]), ("c", [2, 3]), ("d", [3, 0])])
->>> b = Mechanism.build([("x", ["p", "q"]), ("y", ["r", "q"]), ("z", ["s", "p"]), ("w", ["r", "s"])])
+>>> b = Mechanism.build(
+...     [("x", ["p", "q"]), ("y", ["r", "q"]), ("z", ["s", "p"]), ("w", ["r", "s"])]
+... )
 >>> canonical_code(a) == canonical_code(b)
 True
 """
@@ -29,7 +31,9 @@ Level = Literal["chain", "kinds", "mechanism"]
 LEVELS: tuple[str, ...] = ("chain", "kinds", "mechanism")
 
 
-def _colour_classes(m: Mechanism, level: str) -> tuple[list[list[int]], dict[str, int], dict[str, int]]:
+def _colour_classes(
+    m: Mechanism, level: str
+) -> tuple[list[list[int]], dict[str, int], dict[str, int]]:
     link_ix = {link: i for i, link in enumerate(m.links)}
     joint_ix = {j.id: len(m.links) + k for k, j in enumerate(m.joints)}
     if level == "chain":
@@ -43,7 +47,11 @@ def _colour_classes(m: Mechanism, level: str) -> tuple[list[list[int]], dict[str
         for driven in (True, False):
             for kind in ("R", "P"):
                 classes.append(
-                    [joint_ix[j.id] for j in m.joints if j.kind == kind and (j.id in drivers) == driven]
+                    [
+                        joint_ix[j.id]
+                        for j in m.joints
+                        if j.kind == kind and (j.id in drivers) == driven
+                    ]
                 )
     else:
         raise ValueError(f"level must be one of {LEVELS}, got {level!r}")

@@ -91,9 +91,7 @@ def _minimal_faces(g: nx.Graph) -> tuple[int, ...] | None:
     lengths = [length for _, _, length in edges]
     n_half = 2 * len(edges)
     faces_needed = len(edges) - len(branch) + 2
-    choices = [
-        [(hs[0], *perm) for perm in itertools.permutations(hs[1:])] for hs in at.values()
-    ]
+    choices = [[(hs[0], *perm) for perm in itertools.permutations(hs[1:])] for hs in at.values()]
     best: tuple[int, ...] | None = None
     nxt = [0] * n_half
     for rotation in itertools.product(*choices):
@@ -128,7 +126,9 @@ def _canonical_faces(m: Mechanism) -> tuple[int, ...]:
     classes, link_ix, joint_ix = _colour_classes(m, "chain")
     adjacency = {joint_ix[j.id]: [link_ix[x] for x in j.links] for j in m.joints}
     n_nodes = len(link_ix) + len(joint_ix)
-    pg = pynauty.Graph(n_nodes, adjacency_dict=adjacency, vertex_coloring=[set(c) for c in classes])
+    pg = pynauty.Graph(
+        n_nodes, adjacency_dict=adjacency, vertex_coloring=[set(c) for c in classes]
+    )
     order = pynauty.canon_label(pg)  # order[k] = original vertex placed k-th
     rank = {v: k for k, v in enumerate(order)}
     cg = nx.Graph()
