@@ -20,12 +20,13 @@ import json
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
-
-import networkx as nx
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Joint, Mechanism, Point
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 _KNOWN_KEYS = {"name", "frame", "joints", "links", "drivers", "points"}
 

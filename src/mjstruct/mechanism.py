@@ -19,11 +19,12 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
-
-import networkx as nx
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 JOINT_KINDS = ("R", "P")
 
@@ -139,7 +140,19 @@ class Mechanism:
         return self._graph.copy()
 
     @cached_property
+    def adjacency(self) -> dict[tuple[str, str], tuple[tuple[str, str], ...]]:
+        """The bipartite graph as plain adjacency lists (no networkx needed)."""
+        adj: dict[tuple[str, str], tuple[tuple[str, str], ...]] = {
+            (LINK, link): tuple((JOINT, j) for j in js) for link, js in self.link_joints.items()
+        }
+        for j in self.joints:
+            adj[(JOINT, j.id)] = tuple((LINK, link) for link in j.links)
+        return adj
+
+    @cached_property
     def _graph(self) -> nx.Graph:
+        import networkx as nx  # imported here: the structural CLI path does without it
+
         g = nx.Graph()
         drivers = set(self.drivers)
         for link in self.links:
@@ -205,14 +218,30 @@ def validate(m: Mechanism) -> None:
     for p in m.points:
         if p.link not in known:
             raise MechanismError(f"points: point {p.id!r} is on unknown link {p.link!r}")
-    if not nx.is_connected(m._graph):
-        parts = sorted(
-            (
-                sorted(v for kind, v in comp if kind == LINK)
-                for comp in nx.connected_components(m._graph)
-            ),
-            key=len,
-        )
+    parts = components(m)
+    if len(parts) > 1:
+        smallest = min(parts, key=len)
         raise MechanismError(
-            f"joints: the chain is disconnected (links {', '.join(parts[0])} form a separate part)"
+            f"joints: the chain is disconnected (links {', '.join(smallest)} form a separate part)"
         )
+
+
+def components(m: Mechanism) -> list[list[str]]:
+    """Links of each connected part of the chain (a valid chain has one)."""
+    seen: set[str] = set()
+    parts = []
+    for start in m.links:
+        if start in seen:
+            continue
+        part, stack = [], [start]
+        seen.add(start)
+        while stack:
+            link = stack.pop()
+            part.append(link)
+            for jid in m.link_joints[link]:
+                for other in m.joint(jid).links:
+                    if other not in seen:
+                        seen.add(other)
+                        stack.append(other)
+        parts.append(sorted(part))
+    return parts

@@ -32,9 +32,11 @@ import itertools
 import math
 from dataclasses import dataclass
 
-import networkx as nx
+from collections.abc import Hashable, Mapping, Sequence
 
 from mjstruct.mechanism import Mechanism
+
+Adjacency = Mapping[Hashable, Sequence[Hashable]]
 
 EXACT_LIMIT = 20_000
 
@@ -49,12 +51,14 @@ class LoopAssortment:
 
 def is_planar(m: Mechanism) -> bool:
     """Whether the link–joint graph has a planar drawing."""
+    import networkx as nx
+
     return bool(nx.check_planarity(m.graph())[0])
 
 
-def _suppressed(g: nx.Graph) -> tuple[list, list[tuple[object, object, int]]]:
+def _suppressed(g: Adjacency) -> tuple[list, list[tuple[Hashable, Hashable, int]]]:
     """Branch vertices (degree != 2) and the paths between them as weighted edges."""
-    branch = [v for v in g if g.degree(v) != 2]
+    branch = [v for v in g if len(g[v]) != 2]
     is_branch = set(branch)
     seen: set[frozenset] = set()
     edges = []
@@ -72,17 +76,25 @@ def _suppressed(g: nx.Graph) -> tuple[list, list[tuple[object, object, int]]]:
     return branch, edges
 
 
-def _rotation_count(g: nx.Graph, branch: list) -> int:
-    return math.prod(math.factorial(max(g.degree(v) - 1, 0)) for v in branch)
+def _rotation_count(g: Adjacency, branch: list) -> int:
+    return math.prod(math.factorial(max(len(g[v]) - 1, 0)) for v in branch)
 
 
-def _minimal_faces(g: nx.Graph) -> tuple[int, ...] | None:
+class _TooMany(Exception):
+    """More rotation systems than :data:`EXACT_LIMIT`."""
+
+
+def _minimal_faces(g: Adjacency) -> tuple[int, ...] | None:
+    """Lexicographically smallest sorted face sizes over all embeddings; None if not planar.
+
+    Raises :class:`_TooMany` when the rotation systems are too many to enumerate.
+    """
     branch, edges = _suppressed(g)
     if not branch:  # a single cycle
-        half = g.number_of_edges() // 2
+        half = sum(len(v) for v in g.values()) // 4
         return (half, half)
     if _rotation_count(g, branch) > EXACT_LIMIT:
-        return None
+        raise _TooMany
     # half-edge h = 2 * edge + end; end 0 sits at edges[e][0], end 1 at edges[e][1]
     at: dict[object, list[int]] = {v: [] for v in branch}
     for e, (u, v, _) in enumerate(edges):
@@ -118,7 +130,8 @@ def _minimal_faces(g: nx.Graph) -> tuple[int, ...] | None:
     return best
 
 
-def _canonical_faces(m: Mechanism) -> tuple[int, ...]:
+def _canonical_faces(m: Mechanism) -> tuple[int, ...] | None:
+    import networkx as nx
     import pynauty
 
     from mjstruct.structure.isomorphism import _colour_classes
@@ -137,7 +150,8 @@ def _canonical_faces(m: Mechanism) -> tuple[int, ...]:
         sorted(tuple(sorted((rank[j], rank[x]))) for j, xs in adjacency.items() for x in xs)
     )
     planar, emb = nx.check_planarity(cg)
-    assert planar
+    if not planar:
+        return None
     seen: set[tuple[int, int]] = set()
     sizes = []
     for u, v in sorted(emb.edges()):
@@ -149,10 +163,10 @@ def _canonical_faces(m: Mechanism) -> tuple[int, ...]:
 
 def loop_assortment(m: Mechanism) -> LoopAssortment | None:
     """[L] of a planar chain (see the module text for which drawing); None if not planar."""
-    g = m.graph()
-    if not nx.check_planarity(g)[0]:
-        return None
-    exact = _minimal_faces(g)
-    if exact is not None:
-        return LoopAssortment(exact, "minimal")
-    return LoopAssortment(_canonical_faces(m), "canonical")
+    try:
+        exact = _minimal_faces(m.adjacency)
+    except _TooMany:
+        sizes = _canonical_faces(m)
+        return None if sizes is None else LoopAssortment(sizes, "canonical")
+    # exhaustive: no genus-0 rotation system means the graph is not planar
+    return None if exact is None else LoopAssortment(exact, "minimal")

@@ -19,9 +19,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-import networkx as nx
-
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, components
 from mjstruct.structure.assortments import Assortment
 
 
@@ -32,8 +30,8 @@ def loops_by_formula(a: Assortment) -> Fraction:
 
 def cycle_rank(m: Mechanism) -> int:
     """Cycle rank of the bipartite link–joint graph: E - vertices + components."""
-    g = m.graph()
-    return g.number_of_edges() - g.number_of_nodes() + nx.number_connected_components(g)
+    edges = sum(len(j.links) for j in m.joints)
+    return edges - (len(m.links) + len(m.joints)) + len(components(m))
 
 
 def loops_by_joints(n: int, p: int) -> int:
