@@ -30,9 +30,8 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
-
 from collections.abc import Hashable, Mapping, Sequence
+from dataclasses import dataclass
 
 from mjstruct.mechanism import Mechanism
 
