@@ -32,10 +32,11 @@ import itertools
 import math
 from collections.abc import Hashable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from mjstruct.mechanism import Mechanism
 
-Adjacency = Mapping[Hashable, Sequence[Hashable]]
+Adjacency = Mapping[Any, Sequence[Any]]
 
 EXACT_LIMIT = 20_000
 
