@@ -199,3 +199,15 @@ def test_toml_equals_json(tmp_path, capsys, examples):
     da, db = json.loads(a), json.loads(b)
     da.pop("name"), db.pop("name")
     assert da == db
+
+
+def test_structural_path_leaves_heavy_libraries_out(examples):
+    probe = (
+        "import sys, io, contextlib\n"
+        "from mjstruct.cli.main import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    main(['analyze', {str(examples / 'radial-engine-5.json')!r}, '--json'])\n"
+        "print(sorted(m for m in ('sympy', 'matplotlib', 'scipy', 'networkx') if m in sys.modules))"
+    )
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert p.stdout.strip() == "[]"
