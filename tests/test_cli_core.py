@@ -207,7 +207,8 @@ def test_structural_path_leaves_heavy_libraries_out(examples):
         "from mjstruct.cli.main import main\n"
         "with contextlib.redirect_stdout(io.StringIO()):\n"
         f"    main(['analyze', {str(examples / 'radial-engine-5.json')!r}, '--json'])\n"
-        "print(sorted(m for m in ('sympy', 'matplotlib', 'scipy', 'networkx') if m in sys.modules))"
+        "heavy = ('sympy', 'matplotlib', 'scipy', 'networkx')\n"
+        "print(sorted(m for m in heavy if m in sys.modules))"
     )
     p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert p.stdout.strip() == "[]"
