@@ -1,0 +1,293 @@
+"""The (3,3) pebble game: generic rank, redundant constraints and rigid parts of a chain.
+
+This module owns the combinatorial rigidity of planar body-and-pin chains.  A planar
+chain of rigid links joined by one-freedom pairs is generically a *body-bar*
+framework: every simple joint (R or P) is two bars between its two links, and a
+multiple joint (MJ) joining m links is m - 1 simple joints, expanded as a star from
+its first link (the rank does not depend on the star).  The bar sets that are
+independent for generic geometry are exactly the (3,3)-sparse multigraphs (Tay), and
+the pebble game of Lee and Streinu finds a maximal independent set in O(n·m):
+
+* rank = number of accepted bars; generic DOF ``F = 3(n - 1) - rank``;
+* every rejected bar is a redundant constraint; the set of links the failed pebble
+  search reached is a rigid sub-chain holding it (*where* the redundancy sits);
+* maximal rigid sub-chains (rigid components) come from the final pebble orientation.
+
+:class:`PebbleGame` is the plain game on integer vertices (each vertex carries its own
+number of pebbles, 3 for a body, 2 for a point) and is reused by the Assur-group
+decomposition in :mod:`mjstruct.structure.assur`.
+
+Examples
+--------
+>>> from mjstruct.mechanism import Mechanism
+>>> four_bar = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 3]),
+...                             ("O2", [3, 0])], frame=0)
+>>> generic_dof(four_bar), pebble_rank(four_bar)
+(1, 8)
+>>> triangle = Mechanism.build([("a", [0, 1]), ("b", [1, 2]), ("c", [2, 0])])
+>>> rigid_components(triangle)
+[('0', '1', '2')]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+from mjstruct.mechanism import Mechanism
+
+BODY_PEBBLES = 3  # planar rigid body: x, y, angle
+POINT_PEBBLES = 2  # a pin centre: x, y
+TRIVIAL = 3  # (k, l) = (3, 3): a free rigid chain keeps its 3 rigid-body motions
+
+
+class PebbleGame:
+    """Pebble game for count matroids ``|E'| <= Σ k_v - 3`` on a multigraph.
+
+    ``capacities[v]`` is the number of pebbles of vertex v (3 for a rigid body, 2 for
+    a point).  Edges are inserted one by one with :meth:`add_edge`; an edge is accepted
+    when 4 pebbles can be gathered on its two ends.  The state is the orientation:
+    ``out[v]`` lists the heads of the accepted edges covered by a pebble of v.
+
+    Examples
+    --------
+    >>> g = PebbleGame([3, 3])
+    >>> [g.add_edge(0, 1) for _ in range(4)]
+    [True, True, True, False]
+    >>> g.rank, g.free_pebbles
+    (3, 3)
+    """
+
+    def __init__(self, capacities: Sequence[int]) -> None:
+        self.pebbles: list[int] = list(capacities)
+        self.out: list[list[int]] = [[] for _ in capacities]
+        self.rank = 0
+        self.free_pebbles = sum(capacities)
+        self._seen: list[int] = [0] * len(capacities)
+        self._parent: list[int] = [-1] * len(capacities)
+        self._stamp = 0
+        self.last_region: list[int] = []  # vertices reached by the last failed gathering
+
+    def _find_pebble(self, root: int, reached: list[int]) -> bool:
+        """Move one free pebble to ``root`` along a reversed path (DFS over out-edges)."""
+        seen, parent, pebbles, out, stamp = (
+            self._seen,
+            self._parent,
+            self.pebbles,
+            self.out,
+            self._stamp,
+        )
+        stack = [root]
+        while stack:
+            x = stack.pop()
+            for y in out[x]:
+                if seen[y] == stamp:
+                    continue
+                seen[y] = stamp
+                parent[y] = x
+                reached.append(y)
+                if pebbles[y] > 0:
+                    pebbles[y] -= 1
+                    while y != root:  # reverse the path root -> ... -> y
+                        x = parent[y]
+                        out[x].remove(y)
+                        out[y].append(x)
+                        y = x
+                    pebbles[root] += 1
+                    return True
+                stack.append(y)
+        return False
+
+    def gather(self, u: int, v: int, want: int) -> int:
+        """Collect up to ``want`` pebbles on u and v; return how many they hold."""
+        pebbles = self.pebbles
+        while pebbles[u] + pebbles[v] < want:
+            self._stamp += 1
+            self._seen[u] = self._seen[v] = self._stamp
+            reached = [u, v]
+            if not (self._find_pebble(u, reached) or self._find_pebble(v, reached)):
+                self.last_region = reached
+                break
+        return pebbles[u] + pebbles[v]
+
+    def add_edge(self, u: int, v: int) -> bool:
+        """Insert edge uv; True when independent (accepted), False when redundant."""
+        if u == v:
+            raise ValueError("a loop edge carries no constraint")
+        if self.gather(u, v, TRIVIAL + 1) <= TRIVIAL:
+            return False
+        tail, head = (u, v) if self.pebbles[u] > 0 else (v, u)
+        self.pebbles[tail] -= 1
+        self.out[tail].append(head)
+        self.rank += 1
+        self.free_pebbles -= 1
+        return True
+
+    def pin(self, root: int) -> int:
+        """Gather as many pebbles as possible on ``root`` (up to its capacity).
+
+        After pinning a vertex of an isostatic (rigid, no redundancy) graph every
+        other vertex has all its pebbles on out-edges: the *pinned orientation* whose
+        strongly connected components are the Assur components.
+        """
+        while True:
+            self._stamp += 1
+            self._seen[root] = self._stamp
+            if not self._find_pebble(root, []):
+                return self.pebbles[root]
+
+    def rigid_component(self, u: int, v: int) -> list[int] | None:
+        """The maximal rigid set holding u and v, or None when u, v are not rigid together.
+
+        Lee–Streinu: with 3 pebbles gathered on u, v, the component is u, v and every
+        vertex that cannot reach a free pebble elsewhere.  Valid for vertices of 3
+        pebbles (bodies); call after all edges are in.
+        """
+        if self.gather(u, v, TRIVIAL + 1) > TRIVIAL:
+            return None
+        n = len(self.pebbles)
+        incoming: list[list[int]] = [[] for _ in range(n)]
+        for x, heads in enumerate(self.out):
+            for y in heads:
+                incoming[y].append(x)
+        loose = [False] * n  # can reach a free pebble other than the 3 on u, v
+        stack = [w for w in range(n) if self.pebbles[w] > 0 and w != u and w != v]
+        for w in stack:
+            loose[w] = True
+        while stack:
+            y = stack.pop()
+            for x in incoming[y]:
+                if not loose[x] and x != u and x != v:
+                    loose[x] = True
+                    stack.append(x)
+        return [w for w in range(n) if not loose[w]]
+
+
+# -- body-bar model of a chain -------------------------------------------------------
+
+
+def body_bars(m: Mechanism) -> list[tuple[str, str, str]]:
+    """The bars of the body-bar model: ``(joint id, link, link)``, two per simple joint.
+
+    An MJ is expanded as a star from its first listed link.
+
+    >>> from mjstruct.mechanism import Mechanism
+    >>> m = Mechanism.build([("A", [0, 1, 2]), ("b", [1, 2]), ("c", [2, 0])])
+    >>> body_bars(m)[:4]
+    [('A', '0', '1'), ('A', '0', '1'), ('A', '0', '2'), ('A', '0', '2')]
+    """
+    bars = []
+    for j in m.joints:
+        hub = j.links[0]
+        for other in j.links[1:]:
+            bars += [(j.id, hub, other)] * 2
+    return bars
+
+
+@dataclass(frozen=True)
+class RigidityResult:
+    """Outcome of the pebble game on a chain's body-bar model.
+
+    ``redundant`` lists the rejected bars ``(joint, link, link)``; ``regions`` are the
+    over-constrained sub-chains (link sets, each rigid) with the number of redundant
+    bars each holds.
+    """
+
+    n: int
+    rank: int
+    redundant: tuple[tuple[str, str, str], ...]
+    regions: tuple[tuple[tuple[str, ...], int], ...]
+
+    @property
+    def dof(self) -> int:
+        """Generic DOF of the chain: 3(n - 1) - rank."""
+        return 3 * (self.n - 1) - self.rank
+
+
+def _play(
+    links: Sequence[str], bars: Iterable[tuple[str, str, str]]
+) -> tuple[PebbleGame, dict[str, int], RigidityResult]:
+    index = {link: k for k, link in enumerate(links)}
+    game = PebbleGame([BODY_PEBBLES] * len(links))
+    rejected: list[tuple[str, str, str]] = []
+    regions: list[set[int]] = []
+    counts: list[int] = []
+    for bar in bars:
+        u, v = index[bar[1]], index[bar[2]]
+        if game.add_edge(u, v):
+            continue
+        rejected.append(bar)
+        region = set(game.last_region)
+        # overlapping rigid regions merge into one rigid region (they share a body)
+        keep_regions, keep_counts, total = [], [], 1
+        for r, c in zip(regions, counts, strict=True):
+            if r & region:
+                region |= r
+                total += c
+            else:
+                keep_regions.append(r)
+                keep_counts.append(c)
+        regions, counts = [*keep_regions, region], [*keep_counts, total]
+    named = tuple(
+        (tuple(links[k] for k in sorted(r)), c)
+        for r, c in sorted(zip(regions, counts, strict=True), key=lambda rc: min(rc[0]))
+    )
+    result = RigidityResult(len(links), game.rank, tuple(rejected), named)
+    return game, index, result
+
+
+def rigidity(m: Mechanism) -> RigidityResult:
+    """Run the (3,3) pebble game on the chain (drivers ignored).
+
+    A four-bar with a fifth pin across it: formula F = -1, generic F = 0, one
+    redundant bar, and the whole chain is the over-constrained region.
+
+    >>> from mjstruct.mechanism import Mechanism
+    >>> double = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 3]),
+    ...                           ("O2", [3, 0]), ("C", [1, 3])], frame=0)
+    >>> r = rigidity(double)
+    >>> r.dof, r.redundant, r.regions
+    (0, (('C', '1', '3'),), ((('0', '1', '2', '3'), 1),))
+    """
+    return _play(m.links, body_bars(m))[2]
+
+
+def pebble_rank(m: Mechanism) -> int:
+    """Rank of the chain's constraints for generic geometry (accepted bars)."""
+    return rigidity(m).rank
+
+
+def generic_dof(m: Mechanism) -> int:
+    """Generic DOF F = 3(n - 1) - rank; equals the formula F when nothing is redundant."""
+    return rigidity(m).dof
+
+
+def rigid_components(m: Mechanism, min_links: int = 2) -> list[tuple[str, ...]]:
+    """Maximal rigid sub-chains with at least ``min_links`` links (drivers ignored)."""
+    game, index, _ = _play(m.links, body_bars(m))
+    return _components(
+        game, m.links, [(index[a], index[b]) for _, a, b in body_bars(m)], min_links
+    )
+
+
+def _components(
+    game: PebbleGame, names: Sequence[str], edges: Iterable[tuple[int, int]], min_links: int
+) -> list[tuple[str, ...]]:
+    comp_of = [-1] * len(names)
+    comps: list[list[int]] = []
+    tried: set[tuple[int, int]] = set()
+    for u, v in edges:
+        if comp_of[u] >= 0 and comp_of[u] == comp_of[v]:
+            continue
+        key = (min(u, v), max(u, v))
+        if key in tried:  # parallel bars: one test per pair of bodies
+            continue
+        tried.add(key)
+        comp = game.rigid_component(u, v)
+        if comp is None:
+            continue
+        for w in comp:
+            comp_of[w] = len(comps)
+        comps.append(comp)
+    out = [tuple(names[w] for w in sorted(c)) for c in comps if len(c) >= min_links]
+    return sorted(out, key=lambda c: (-len(c), c))
