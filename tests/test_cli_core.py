@@ -51,7 +51,8 @@ def test_analyze_text_shows_both_formulas(capsys, examples):
     assert "cycle rank of the link–joint graph = 4" in out
     assert "F = n2 − 3 − V − (n4) = 8 − 3 − 3 − (1) = 1" in out
     assert "F = (n − 1) − 2K = 9 − 8 = 1" in out
-    assert "S_L = 2(F + 3K) − V = 23" in out and "= 23" in out
+    assert "S_L = 2(F + 3K) − V = 2(1 + 3·4) − 3 = 23" in out
+    assert "S_L = Σ i·n_i = 2·8 + 3·1 + 4·1 = 23" in out
     assert "[L] = [4 4 5 5 5]" in out
     assert "Code* = [8110]/[3·0·0]" in out
 

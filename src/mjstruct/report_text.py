@@ -85,8 +85,8 @@ def render(r: StructuralReport) -> str:
     d = r.to_dict()
     sides = " + ".join(f"{k + 2}·{ni}" for k, ni in enumerate(la) if ni)
     bullet(
-        f"sum of sides of all loops: S_L = 2(F + 3K) − V = {_n(d['checks']['S_L']['2(F+3K)-V'])}; "
-        f"S_L = Σ i·n_i = {sides} = {r.S_L}"
+        f"sum of sides of all loops: S_L = 2(F + 3K) − V = 2({_n(r.F)} + 3·{_n(r.K)}) − {a.V} = "
+        f"{_n(d['checks']['S_L']['2(F+3K)-V'])}; S_L = Σ i·n_i = {sides} = {r.S_L}"
     )
     if r.source == "graph":
         if r.loops is not None:
@@ -96,10 +96,16 @@ def render(r: StructuralReport) -> str:
             )
         else:
             bullet(f"loop assortment: none — {r.loops_note}")
-    bullet(
-        f"redundant constraints, N = {r.N}: rc = N − F = {r.N} − {_n(r.F)} = {_n(r.rc)}"
-        + (f" (seed's form: {d['checks']['rc']['seed']})" if "seed" in d["checks"]["rc"] else "")
-    )
+    rc_line = f"redundant constraints, N = {r.N}: rc = N − F = {r.N} − {_n(r.F)} = {_n(r.rc)}"
+    if "seed" in d["checks"]["rc"]:
+        beyond = [(k - 1, f"n{k + 2}", ni) for k, ni in enumerate(la) if k >= 2]
+        bs, bn = _terms(beyond)
+        n2 = la[0] if la else 0
+        rc_line += (
+            f"; rc = (N + V + 3) − (n2 − ({bs})) = {r.N + a.V + 3} − ({n2} − ({bn})) = "
+            f"{d['checks']['rc']['seed']}"
+        )
+    bullet(rc_line)
     if r.code is not None:
         star = f"; Code* = {r.code_star}" if r.code_star else ""
         bullet(f"structural code: Code = {r.code}{star}")
