@@ -59,3 +59,12 @@ def test_mj_expands_into_simple_joints(examples):
     assert inc.matrix.shape == (12, 16)
     assert not inc.matrix.sum(axis=0).any()
     assert inc.H.tolist().count(2) == 5
+
+
+def test_toml_round_trip_of_every_example(examples):
+    from mjstruct.io import mechanism_to_toml, parse_mechanism
+
+    for f in sorted(examples.glob("*.json")):
+        m = read_mechanism(f)
+        again = parse_mechanism(mechanism_to_toml(m), toml=True)
+        assert again == m and again.extra == m.extra

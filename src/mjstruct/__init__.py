@@ -22,6 +22,7 @@ _EXPORTS: dict[str, str] = {
     "parse_mechanism": "mjstruct.io",
     "mechanism_from_dict": "mjstruct.io",
     "mechanism_to_dict": "mjstruct.io",
+    "mechanism_to_toml": "mjstruct.io",
     "from_link_graph": "mjstruct.io",
     "to_networkx": "mjstruct.io",
     "Assortment": "mjstruct.structure.assortments",

@@ -172,6 +172,40 @@ def mechanism_to_dict(m: Mechanism) -> dict[str, Any]:
     return out
 
 
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, Mapping):
+        return (
+            "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in v.items()) + "}"
+        )
+    raise MechanismError(f"cannot write {type(v).__name__} value {v!r} as TOML")
+
+
+def mechanism_to_toml(m: Mechanism) -> str:
+    """The contract's object as TOML text (reads back with :func:`parse_mechanism`).
+
+    >>> from mjstruct.mechanism import Mechanism
+    >>> m = Mechanism.build([("a", [0, 1]), ("b", [1, 2, 0], "P")], frame=0)
+    >>> parse_mechanism(mechanism_to_toml(m), toml=True) == m
+    True
+    """
+    d = mechanism_to_dict(m)
+    tables = {k: d.pop(k) for k in ("joints", "points") if k in d}
+    lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in d.items()]
+    for key, rows in tables.items():
+        for row in rows:
+            lines.append(f"\n[[{key}]]")
+            lines.extend(f"{json.dumps(k)} = {_toml_value(v)}" for k, v in row.items())
+    return "\n".join(lines) + "\n"
+
+
 def from_link_graph(
     g: nx.Graph, frame: Any = None, drivers: Any = (), name: str = ""
 ) -> Mechanism:
