@@ -30,6 +30,7 @@ PUBLIC = [
     "loop_assortment",
     "mechanism_from_dict",
     "mechanism_to_dict",
+    "mechanism_to_toml",
     "mj_assortment",
     "mj_factor",
     "parse_code",
