@@ -142,9 +142,13 @@ class Decomposition:
                 f"     external joints: {', '.join(g.external)}; "
                 f"internal joints: {', '.join(g.internal) or '-'}"
             )
-            where = "the frame" if g.reference == self.frame else f"link {g.reference}"
-            inside = f" (inside the rigid cluster {{{', '.join(g.within)}}})" if g.within else ""
-            lines.append(f"     solved in the frame of {where}{inside}")
+            if g.reference == self.frame:
+                lines.append(f"     solved relative to the frame {self.frame}")
+            else:
+                lines.append(
+                    f"     solved in the frame of link {g.reference}, inside the rigid "
+                    f"cluster {{{', '.join(g.within)}}}"
+                )
         lines.append("")
         lines.append(f"Mechanism class: {roman(self.mechanism_class)} ({self.mechanism_class})")
         return "\n".join(lines)
@@ -506,7 +510,7 @@ def _check_drivers(m: Mechanism, drivers: Sequence[str]) -> None:
 def _balance(model: _Model) -> tuple[int, int]:
     """(redundant constraints, DOF left) with the drivers held."""
     bodies = list(range(len(model.bodies)))
-    game, rejected, points = _game(bodies, model.joints)
+    game, rejected, _ = _game(bodies, model.joints)
     dof_left = game.free_pebbles - 3
     return rejected + len(model.welded_twice), dof_left
 
