@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import random
+
 from hypothesis import strategies as st
 
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Joint, Mechanism
 
 
 @st.composite
@@ -32,3 +34,20 @@ def chains(draw: st.DrawFn, max_links: int = 12, max_multiplicity: int = 4) -> M
     return Mechanism.build(
         [(f"J{k}", [str(x) for x in js], kinds[k]) for k, js in enumerate(joints)], frame="0"
     )
+
+
+def relabelled(m: Mechanism, seed: int) -> Mechanism:
+    """The same chain with new ids and every list shuffled."""
+    rng = random.Random(seed)
+    names = list(m.links)
+    new = [f"L{x}" for x in rng.sample(range(1000), len(names))]
+    ren = dict(zip(names, new, strict=True))
+    joints = []
+    for k, j in enumerate(m.joints):
+        links = [ren[x] for x in j.links]
+        rng.shuffle(links)
+        joints.append(Joint(f"Q{k}-{rng.random():.6f}", tuple(links), j.kind))
+    rng.shuffle(joints)
+    links_order = [ren[x] for x in names]
+    rng.shuffle(links_order)
+    return Mechanism(links=tuple(links_order), joints=tuple(joints))

@@ -4,14 +4,13 @@ from __future__ import annotations
 
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from strategies import chains
-from test_properties import relabelled
 
 from mjstruct.io import read_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure import loops
 from mjstruct.structure.assortments import assortment
 from mjstruct.structure.loops import loop_assortment
+from strategies import chains, relabelled
 
 
 def test_excavator_gets_the_designers_drawing(examples):

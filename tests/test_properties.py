@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import random
-
 import networkx as nx
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -14,7 +12,7 @@ from mjstruct.structure import mobility as mob
 from mjstruct.structure.assortments import assortment, simple_joint_count
 from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.structure.loops import loop_assortment
-from strategies import chains
+from strategies import chains, relabelled
 
 
 def expanded_simple_graph(m: Mechanism) -> nx.MultiGraph:
@@ -59,22 +57,6 @@ def test_loops_sum_to_side_sum(m):
         a = assortment(m)
         assert len(la.sizes) == mob.cycle_rank(m) + 1
         assert sum(la.sizes) == a.sides
-
-
-def relabelled(m: Mechanism, seed: int) -> Mechanism:
-    rng = random.Random(seed)
-    names = list(m.links)
-    new = [f"L{x}" for x in rng.sample(range(1000), len(names))]
-    ren = dict(zip(names, new, strict=True))
-    joints = []
-    for k, j in enumerate(m.joints):
-        links = [ren[x] for x in j.links]
-        rng.shuffle(links)
-        joints.append(Joint(f"Q{k}-{rng.random():.6f}", tuple(links), j.kind))
-    rng.shuffle(joints)
-    links_order = [ren[x] for x in names]
-    rng.shuffle(links_order)
-    return Mechanism(links=tuple(links_order), joints=tuple(joints))
 
 
 @settings(max_examples=100, deadline=None)
