@@ -1,0 +1,139 @@
+"""Geometry of a mechanism at its reference configuration, read and checked.
+
+Owns the link shapes: every joint centre ``at`` (one reference configuration fixes
+the distances on each link, ternary and multiple-joint links included), the guide
+direction ``axis`` of each prismatic joint, points of interest, and the
+*characteristic angle* of each link (seed 000: the direction of the vector from the
+link's first to its second joint centre; a slider uses its guide; the frame is the
+x axis).  Positions are complex numbers ``x + iy`` throughout the plug-in.
+
+Examples
+--------
+>>> from mjstruct.io import mechanism_from_dict
+>>> m = mechanism_from_dict({"frame": 0, "drivers": ["O1"], "joints": [
+...     {"id": "O1", "links": [0, 1], "at": [0, 0]},
+...     {"id": "A", "links": [1, 2], "at": [0, 1]},
+...     {"id": "B", "links": [2, 3], "at": [2, 1]},
+...     {"id": "O2", "links": [3, 0], "at": [2, 0]}]})
+>>> g = read_geometry(m)
+>>> g.centres["B"], round(g.char_angle["1"], 6), g.driver_ref["O1"] == g.char_angle["1"]
+((2+1j), 1.570796, True)
+"""
+
+from __future__ import annotations
+
+import cmath
+from dataclasses import dataclass
+
+from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Mechanism
+
+#: two joint centres closer than this (relative to the mechanism's size) coincide
+COINCIDE = 1e-12
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Reference configuration of a mechanism (complex coordinates).
+
+    Attributes
+    ----------
+    centres : joint id -> reference centre (for a prismatic joint: a point carried by
+        its second listed link, reported as that joint's position).
+    axes : prismatic joint id -> unit guide direction at the reference configuration.
+    points : point id -> (link, reference position).
+    char_angle : link -> characteristic angle at the reference configuration.
+    char_joints : link -> the two joints whose centres define that angle (or ``()``).
+    driver_ref : driver joint -> its coordinate at the reference configuration
+        (relative angle for a revolute driver; 0 for a prismatic slide).
+    scale : the largest distance between two joint centres (the length unit of tolerances).
+    """
+
+    centres: dict[str, complex]
+    axes: dict[str, complex]
+    points: dict[str, tuple[str, complex]]
+    char_angle: dict[str, float]
+    char_joints: dict[str, tuple[str, ...]]
+    driver_ref: dict[str, float]
+    scale: float
+
+    def distance(self, a: str, b: str) -> float:
+        """Distance between two joint centres at the reference configuration."""
+        return abs(self.centres[a] - self.centres[b])
+
+
+def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geometry:
+    """Read and check the geometry keys of ``m`` (``at``, ``axis``, ``points``).
+
+    Raises
+    ------
+    MechanismError
+        a joint without ``at``, a prismatic joint without ``axis`` or with more than two
+        links, all joints at one point, a driver that is not a joint of the mechanism.
+    """
+    if m.frame is None:
+        raise MechanismError("frame: kinematics needs a frame link")
+    centres: dict[str, complex] = {}
+    axes: dict[str, complex] = {}
+    for k, j in enumerate(m.joints):
+        if j.at is None:
+            raise MechanismError(
+                f"joints[{k}].at: missing for joint {j.id!r} (kinematics needs every joint centre)"
+            )
+        centres[j.id] = complex(*j.at)
+        if j.kind == "P":
+            if j.axis is None:
+                raise MechanismError(f"joints[{k}].axis: missing for prismatic joint {j.id!r}")
+            if len(j.links) != 2:
+                raise MechanismError(
+                    f"joints[{k}].links: prismatic joint {j.id!r} must join exactly two links"
+                )
+            a = complex(*j.axis)
+            axes[j.id] = a / abs(a)
+    scale = max((abs(a - b) for a in centres.values() for b in centres.values()), default=0.0)
+    if scale <= 0.0:
+        raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
+    tol = COINCIDE * scale
+
+    char_angle: dict[str, float] = {}
+    char_joints: dict[str, tuple[str, ...]] = {}
+    for link in m.links:
+        if link == m.frame:
+            char_angle[link], char_joints[link] = 0.0, ()
+            continue
+        revolute = [jid for jid in m.link_joints[link] if m.joint(jid).kind == "R"]
+        pair = next(
+            (
+                (a, b)
+                for i, a in enumerate(revolute)
+                for b in revolute[i + 1 :]
+                if abs(centres[b] - centres[a]) > tol
+            ),
+            None,
+        )
+        if pair is not None:
+            char_angle[link] = cmath.phase(centres[pair[1]] - centres[pair[0]])
+            char_joints[link] = pair
+            continue
+        slide = [jid for jid in m.link_joints[link] if jid in axes]
+        char_angle[link] = cmath.phase(axes[slide[0]]) if slide else 0.0
+        char_joints[link] = ()
+
+    points: dict[str, tuple[str, complex]] = {}
+    for p in m.points:
+        if p.id in points or p.id in centres:
+            raise MechanismError(
+                f"points: id {p.id!r} is used twice (points and joints share ids)"
+            )
+        points[p.id] = (p.link, complex(*p.at))
+
+    driver_ref: dict[str, float] = {}
+    for d in m.drivers if drivers is None else drivers:
+        if d not in centres:
+            raise MechanismError(f"drivers: {d!r} is not a joint id")
+        j = m.joint(d)
+        if j.kind == "P":
+            driver_ref[d] = 0.0
+        else:
+            driver_ref[d] = char_angle[j.links[1]] - char_angle[j.links[0]]
+    return Geometry(centres, axes, points, char_angle, char_joints, driver_ref, scale)

@@ -1,0 +1,164 @@
+"""Vectorised triangle steps with exact first and second derivatives.
+
+Owns the numerics of one step over all frames at once: a position is a complex array
+``x + iy`` of shape ``(frames,)``; a *jet* is the list ``[value, d/dq, d²/dq²]`` (as
+long as the order asked for).  The derivatives are not finite differences: each step
+solves its two differentiated constraint equations (a 2×2 linear system per frame,
+by Cramer's rule), so σ and κ are exact up to rounding.  The system's determinant is
+the step's singularity measure (zero at a dead or change point).
+
+Examples
+--------
+>>> import numpy as np
+>>> one = np.ones(1, complex)
+>>> X, disc, det = circle_circle([0 * one, 0 * one], [1.2 * one, 0 * one], 1.0, 1.0, 1, 1)
+>>> X[0], X[1]             # the apex of an isosceles triangle on a fixed base
+(array([0.6+0.8j]), array([0.+0.j]))
+>>> round(float(disc[0]), 12), round(float(det[0]), 12)
+(0.64, 0.96)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+Jet = list  # [value, first derivative, second derivative] (complex or real arrays)
+
+
+@dataclass
+class Pose:
+    """Placement of a link: local (reference) point ``zA`` sits at ``A``, rotated by ``r``.
+
+    ``r = exp(iθ)`` with θ the rotation from the reference configuration; ``w`` holds
+    θ' and θ'' (as many as the order).
+    """
+
+    zA: complex
+    A: Jet
+    r: np.ndarray
+    w: Jet
+
+    def point(self, z: complex) -> Jet:
+        """Jet of the link's point whose reference position is ``z``."""
+        rd = self.r * (z - self.zA)
+        out = [self.A[0] + rd]
+        if len(self.A) > 1:
+            out.append(self.A[1] + 1j * self.w[0] * rd)
+        if len(self.A) > 2:
+            out.append(self.A[2] + (1j * self.w[1] - self.w[0] ** 2) * rd)
+        return out
+
+    def vector(self, v: complex) -> Jet:
+        """Jet of a direction fixed to the link (reference value ``v``)."""
+        rv = self.r * v
+        out = [rv]
+        if len(self.A) > 1:
+            out.append(1j * self.w[0] * rv)
+        if len(self.A) > 2:
+            out.append((1j * self.w[1] - self.w[0] ** 2) * rv)
+        return out
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Scalar product of plane vectors stored as complex numbers."""
+    return a.real * b.real + a.imag * b.imag
+
+
+def solve2(g1: np.ndarray, h1: np.ndarray, g2: np.ndarray, h2: np.ndarray) -> np.ndarray:
+    """X with ``g1·X = h1`` and ``g2·X = h2`` (plane vectors as complex numbers)."""
+    det = g1.real * g2.imag - g1.imag * g2.real
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return -1j * (h1 * g2 - h2 * g1) / det
+
+
+def circle_circle(
+    P1: Jet, P2: Jet, r1: float, r2: float, K: np.ndarray | int, order: int
+) -> tuple[Jet, np.ndarray, np.ndarray]:
+    """Dyad RRR: the point at distances r1 from P1 and r2 from P2 on side K (±1).
+
+    Returns the jet of the point, the discriminant h² / r1² (negative: the dyad does
+    not assemble) and the signed sine of the angle at the point between the two sides
+    (zero at a dead point).
+    """
+    d = P2[0] - P1[0]
+    D = np.abs(d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
+        disc = (r1 * r1 - a * a) / (r1 * r1)
+        h = r1 * np.sqrt(np.where((disc < 0) & (disc > -1e-12), 0.0, disc))
+        X0 = P1[0] + (a + 1j * K * h) * d / D
+    X = [X0]
+    g1, g2 = X0 - P1[0], X0 - P2[0]
+    if order >= 1:
+        X.append(solve2(g1, _dot(g1, P1[1]), g2, _dot(g2, P2[1])))
+    if order >= 2:
+        t1, t2 = X[1] - P1[1], X[1] - P2[1]
+        X.append(solve2(g1, _dot(g1, P1[2]) - _dot(t1, t1), g2, _dot(g2, P2[2]) - _dot(t2, t2)))
+    det = (g1.real * g2.imag - g1.imag * g2.real) / (r1 * r2)
+    return X, disc, det
+
+
+def circle_line(
+    P1: Jet, r1: float, L: Jet, n: Jet, K: np.ndarray | int, order: int
+) -> tuple[Jet, np.ndarray, np.ndarray]:
+    """Dyad RRP: the point at distance r1 from P1 on the line through L with normal n.
+
+    ``n`` is a unit normal (jet: it turns with the guide's link).  Returns the point's
+    jet, the discriminant h² / r1² and the signed sine of the angle between the side
+    and the guide (zero at a dead point: the side is perpendicular to the guide).
+    """
+    u = -1j * n[0]
+    w = L[0] - P1[0]
+    beta = _dot(u, w)
+    disc = (beta * beta - (_dot(w, w) - r1 * r1)) / (r1 * r1)
+    with np.errstate(invalid="ignore"):
+        root = r1 * np.sqrt(np.where((disc < 0) & (disc > -1e-12), 0.0, disc))
+    s = -beta + K * root
+    X0 = L[0] + s * u
+    X = [X0]
+    g1 = X0 - P1[0]
+    if order >= 1:
+        e = X0 - L[0]
+        X.append(solve2(g1, _dot(g1, P1[1]), n[0], _dot(n[0], L[1]) - _dot(n[1], e)))
+    if order >= 2:
+        t1 = X[1] - P1[1]
+        X.append(
+            solve2(
+                g1,
+                _dot(g1, P1[2]) - _dot(t1, t1),
+                n[0],
+                _dot(n[0], L[2]) - _dot(n[2], e) - 2.0 * _dot(n[1], X[1] - L[1]),
+            )
+        )
+    det = (g1.real * n[0].imag - g1.imag * n[0].real) / r1
+    return X, disc, det
+
+
+def rotation_between(P: Jet, Q: Jet, zP: complex, zQ: complex) -> tuple[np.ndarray, Jet]:
+    """Rotation of a link carrying P and Q (reference positions zP, zQ): ``r`` and θ', θ''."""
+    v = Q[0] - P[0]
+    e = zQ - zP
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = (v / np.abs(v)) / (e / abs(e))
+        w: Jet = []
+        if len(P) > 1:
+            q1 = (Q[1] - P[1]) / v
+            w.append(q1.imag)
+        if len(P) > 2:
+            w.append(((Q[2] - P[2]) / v - q1 * q1).imag)
+    return r, w
+
+
+def distance_residual(P: Jet, Q: Jet, length: float) -> Jet:
+    """Jet of ``|Q - P| - length`` (a loop-closure equation)."""
+    v = [Q[k] - P[k] for k in range(len(P))]
+    n = np.abs(v[0])
+    out = [n - length]
+    if len(v) > 1:
+        p1 = _dot(v[0], v[1])
+        out.append(p1 / n)
+    if len(v) > 2:
+        out.append((_dot(v[0], v[2]) + _dot(v[1], v[1])) / n - p1 * p1 / n**3)
+    return out
