@@ -213,3 +213,37 @@ def test_structural_path_leaves_heavy_libraries_out(examples):
     )
     p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert p.stdout.strip() == "[]"
+
+
+def test_analyze_reports_generic_mobility(tmp_path, capsys):
+    # five-bar (F = 2) carrying a rigid, over-constrained double four-bar: formula F = 1
+    joints = [
+        ("O1", 0, 1),
+        ("A", 1, 2),
+        ("B", 2, 3),
+        ("C", 3, 4),
+        ("O2", 4, 0),
+        ("D", 4, 5),
+        ("E", 5, 6),
+        ("G", 6, 7),
+        ("H", 7, 4),
+        ("I", 5, 7),
+    ]
+    f = tmp_path / "m.json"
+    f.write_text(
+        json.dumps(
+            {
+                "frame": "0",
+                "drivers": ["O1"],
+                "joints": [{"id": j, "links": [a, b]} for j, a, b in joints],
+            }
+        )
+    )
+    status, out, _ = run(capsys, "analyze", str(f), "--json")
+    d = json.loads(out)
+    assert status == 0 and d["F"] == 1
+    g = d["generic_mobility"]
+    assert g["F_generic"] == 2 and g["redundant_constraints"] == 1
+    assert g["overconstrained"] == [{"links": ["4", "5", "6", "7"], "redundant": 1}]
+    status, out, _ = run(capsys, "analyze", str(f))
+    assert "F_generic = 2" in out and "over-constrained sub-chain {4, 5, 6, 7}" in out

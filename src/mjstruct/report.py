@@ -24,6 +24,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure import mobility as mob
 from mjstruct.structure.assortments import Assortment, assortment, simple_joint_count
 from mjstruct.structure.codes import full_code, parse_code, structural_code
+from mjstruct.structure.generic_mobility import GenericMobility
 
 
 def _num(x: Fraction | int) -> int | float:
@@ -49,6 +50,7 @@ class StructuralReport:
     canonical_mechanism: str | None = None
     source: str = "graph"
     mja_known: bool = True  # a code "[LA]/V" does not say which multiplicities make up V
+    generic: GenericMobility | None = None  # pebble-game mobility (graph input only)
     violations: list[str] = field(default_factory=list)
 
     @property
@@ -132,6 +134,7 @@ class StructuralReport:
                 },
             },
             "violations": self.violations,
+            "generic_mobility": self.generic.to_dict() if self.generic is not None else None,
         }
         return d
 
@@ -149,6 +152,7 @@ def _fill(r: StructuralReport, K: Fraction) -> StructuralReport:
 
 def structural_report(m: Mechanism, lam: int = 3, with_loops: bool = True) -> StructuralReport:
     """Every structural quantity of ``m`` (frame and drivers used for N and rc only)."""
+    from mjstruct.structure.generic_mobility import generic_mobility
     from mjstruct.structure.isomorphism import canonical_code
 
     a = assortment(m)
@@ -173,6 +177,7 @@ def structural_report(m: Mechanism, lam: int = 3, with_loops: bool = True) -> St
             )
         else:
             r.loops, r.loops_rule = la.sizes, la.rule
+    r.generic = generic_mobility(m)
     r.canonical = canonical_code(m)
     if m.frame is not None:
         r.canonical_mechanism = canonical_code(m, "mechanism")

@@ -106,6 +106,9 @@ def render(r: StructuralReport) -> str:
             f"{d['checks']['rc']['seed']}"
         )
     bullet(rc_line)
+    if r.generic is not None:
+        for line in r.generic.render().splitlines():
+            out.append(line.replace("- ", "• ", 1) if line.startswith("- ") else line)
     if r.code is not None:
         star = f"; Code* = {r.code_star}" if r.code_star else ""
         bullet(f"structural code: Code = {r.code}{star}")
