@@ -131,7 +131,7 @@ def evaluate(
             dq1 = sign * rate[s.index]
             if s.kind == "driver-R":
                 r = base.r * np.exp(1j * dq)
-                w = [base.w[0] + dq1] + base.w[1:] if order else []
+                w = [base.w[0] + dq1, *base.w[1:]] if order else []
                 place(driven, Pose(C[s.joint], centre(s.joint), r, w))
             else:
                 A = base.point(C[s.joint])
@@ -192,6 +192,14 @@ def evaluate(
     if plan.reference != plan.frame and plan.frame in poses and upto is None:
         _to_frame(ev, plan.frame)
     return ev
+
+
+def reference_mode(plan: Plan, geom: Geometry, k: int) -> int:
+    """Assembly mode (±1) of dyad step k that reproduces the reference configuration."""
+    s, C = plan.steps[k], geom.centres
+    if s.kind == "RRR":
+        return _mode_rrr(C[s.inputs[0]], C[s.inputs[1]], C[s.joint])
+    return _mode_rrp(C[s.inputs[0]], C[s.joint], geom.axes[s.inputs[1]])
 
 
 def _mode_rrr(z1: complex, z2: complex, zX: complex) -> int:

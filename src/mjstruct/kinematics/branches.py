@@ -1,0 +1,218 @@
+"""Branches of the position functions: assembly modes, branch points, feasibility.
+
+Owns the continuity rules of seed 000 and seed 003's assembly coefficient K = ±1.
+Each dyad step starts in the mode that reproduces the reference configuration.  Along
+the frames a step's Jacobian (the sine at its solved joint) is watched:
+
+* where it dips towards zero between frames, the minimum is refined by evaluating
+  the plan on finer q; if it reaches zero the two branches *meet* (a change point, a
+  dead point passed through) and switching is legal: the branch whose motion
+  continues smoothly (extrapolated from the frames before) is taken — switched or
+  kept, it is reported;
+* if the minimum stays above zero it is a *near* branch point: the mode is kept
+  (switching there would be a jump) and the point is reported;
+* where the dyad cannot assemble the frames are infeasible; the limits of the
+  feasible intervals (dead positions) are reported with their q.
+
+Examples
+--------
+>>> import numpy as np
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> from mjstruct.kinematics.geometry import read_geometry
+>>> from mjstruct.kinematics.planner import plan_kinematics
+>>> m = read_mechanism(example_path("four-bar"))
+>>> g = read_geometry(m); p = plan_kinematics(m, geometry=g)
+>>> q = np.linspace(0, 2 * np.pi, 37)[:-1, None]
+>>> K, events = track_branches(p, g, m, q)
+>>> events                         # a Grashof crank-rocker has no branch point
+[]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mjstruct.kinematics.evaluate import evaluate, reference_mode
+from mjstruct.kinematics.geometry import Geometry
+from mjstruct.kinematics.planner import Plan
+from mjstruct.mechanism import Mechanism
+
+#: a refined |sine| below this means the two branches meet
+MEET = 1e-6
+#: a frame's |sine| below this (and V-shaped against its neighbours) is examined
+WATCH = 0.2
+
+
+@dataclass(frozen=True)
+class BranchEvent:
+    """A branch point met along the frames.
+
+    ``kind``: "change point" (branches meet; ``action`` "switched" or "kept"), "near
+    branch point" (closest approach, mode kept), "dead point" (limit of a feasible
+    interval), "singular frame" (the step is undefined exactly there).
+    """
+
+    q: float
+    frame: int
+    step: int
+    joint: str
+    kind: str
+    sine: float
+    action: str
+
+    def message(self) -> str:
+        what = {
+            "change point": "branches meet",
+            "near branch point": "closest approach of the two branches",
+            "dead point": "limit of the feasible range",
+            "singular frame": "the dyad is undefined here",
+        }[self.kind]
+        return (
+            f"{self.kind} at q = {self.q:.9g} (frame {self.frame}, step {self.step + 1}, "
+            f"joint {self.joint}): {what}, |sin| = {self.sine:.3g}; assembly mode {self.action}"
+        )
+
+
+def _sine(plan, geom, m, q, K, k, t=None):
+    ev = evaluate(plan, geom, m, q, order=0, K=K, upto=k + 1, t=t)
+    disc, det = ev.diag[k]
+    s = np.abs(det)
+    s[~np.isfinite(s) | (disc < -1e-12)] = np.nan
+    return s, ev
+
+
+def _modes_at(K: dict, i: int) -> dict:
+    return {k: (int(v[i]) if isinstance(v, np.ndarray) else v) for k, v in K.items()}
+
+
+def _refine_min(plan, geom, m, q, K, k, i) -> tuple[float, float]:
+    """Smallest |sine| of step k between frames i-1 and i+1 (zooming, vectorised)."""
+    lo, hi = q[i - 1], q[i + 1]
+    Ki = _modes_at(K, i)
+    best_s, best_q = np.inf, float(q[i, 0])
+    for _ in range(5):
+        qs = lo + (hi - lo) * np.linspace(0.0, 1.0, 33)[:, None]
+        s, _ = _sine(plan, geom, m, qs, Ki, k)
+        if not np.isfinite(s).any():
+            return 0.0, best_q
+        j = int(np.nanargmin(s))
+        if s[j] < best_s:
+            best_s, best_q = float(s[j]), float(qs[j, 0])
+        lo, hi = qs[max(j - 1, 0)], qs[min(j + 1, 32)]
+    return best_s, best_q
+
+
+def _boundary(plan, geom, m, a: np.ndarray, b: np.ndarray, K: dict, k: int) -> float:
+    """q where step k stops assembling between a (feasible) and b (not), by bisection."""
+    for _ in range(3):
+        qs = a + (b - a) * np.linspace(0.0, 1.0, 65)[:, None]
+        s, _ = _sine(plan, geom, m, qs, K, k)
+        ok = np.isfinite(s)
+        j = int(np.argmin(ok)) if not ok.all() else 64
+        a, b = qs[max(j - 1, 0)], qs[min(j, 64)]
+    return float(a[0])
+
+
+def track_branches(
+    plan: Plan,
+    geom: Geometry,
+    m: Mechanism,
+    q: np.ndarray,
+    t: np.ndarray | None = None,
+) -> tuple[dict[int, np.ndarray], list[BranchEvent]]:
+    """Assembly mode per dyad step and frame, and the branch points met.
+
+    With closure unknowns ``t`` (class III/IV plans) the modes are kept and events are
+    only reported (the closure fixes the branch by continuation).
+    """
+    F = q.shape[0]
+    K: dict[int, np.ndarray] = {}
+    events: list[BranchEvent] = []
+    switchable = plan.unknowns == 0
+    for k, s in enumerate(plan.steps):
+        if s.kind not in ("RRR", "RRP"):
+            continue
+        base_mode = reference_mode(plan, geom, k)
+        K[k] = np.full(F, base_mode, dtype=np.int8)
+        sine, ev = _sine(plan, geom, m, q, K, k, t)
+        ok = np.isfinite(sine)
+        i = 1
+        while i < F - 1:
+            gap = not ok[i]
+            if gap:
+                # a short run of undefined frames between feasible ones: singular frames
+                j = i
+                while j < F and not ok[j]:
+                    j += 1
+                if j >= F or not ok[i - 1]:
+                    i = j + 1
+                    continue
+                short = j - i <= 2
+                if not short:
+                    i = j + 1
+                    continue
+                cand, after = i, j
+                smin, qstar, kind = 0.0, float(q[i, 0]), "singular frame"
+            else:
+                if not (ok[i - 1] and ok[i + 1]):
+                    i += 1
+                    continue
+                v = sine[i] <= 0.25 * (sine[i - 1] + sine[i + 1]) and sine[i] < WATCH
+                if not v:
+                    i += 1
+                    continue
+                cand, after = i, i + 1
+                if switchable:
+                    smin, qstar = _refine_min(plan, geom, m, q, K, k, i)
+                else:
+                    smin, qstar = float(sine[i]), float(q[i, 0])
+                kind = "change point" if smin < MEET else "near branch point"
+            action = "kept"
+            if kind != "near branch point" and switchable and cand >= 3 and after < F:
+                if _smoother_flipped(plan, geom, m, q, K, k, s.joint, cand, after):
+                    K[k][after:] *= -1
+                    action = "switched"
+                    sine, ev = _sine(plan, geom, m, q, K, k, t)
+                    ok = np.isfinite(sine)
+            events.append(BranchEvent(qstar, cand, k, s.joint, kind, smin, action))
+            i = after + 1
+        # limits of feasible intervals (dead positions)
+        for i in range(F - 1):
+            if ok[i] != ok[i + 1] and not _near_event(events, k, i):
+                a, b = (i, i + 1) if ok[i] else (i + 1, i)
+                qb = (
+                    _boundary(plan, geom, m, q[a], q[b], _modes_at(K, a), k)
+                    if switchable
+                    else float(q[a, 0])
+                )
+                events.append(BranchEvent(qb, a, k, s.joint, "dead point", 0.0, "kept"))
+    events.sort(key=lambda e: (e.frame, e.step))
+    return K, events
+
+
+def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:
+    return any(
+        e.step == k and abs(e.frame - i) <= 3 and e.kind == "singular frame" for e in events
+    )
+
+
+def _smoother_flipped(plan, geom, m, q, K, k, joint, cand, after) -> bool:
+    """True when flipping step k's mode after frame ``cand`` continues the motion smoothly."""
+    idx = np.array([cand - 3, cand - 2, cand - 1, after])
+    sub = q[idx]
+    same = {kk: v[idx] for kk, v in K.items()}
+    flip = {kk: v[idx].copy() for kk, v in K.items()}
+    flip[k][-1] *= -1
+    pts = []
+    for modes in (same, flip):
+        ev = evaluate(plan, geom, m, sub, order=0, K=modes, upto=k + 1)
+        pts.append(ev.centre(joint)[0])
+    x = idx.astype(float)
+    known = pts[0][:3]
+    # quadratic through the three frames before, evaluated at the frame after
+    coef = np.polyfit(x[:3], np.c_[known.real, known.imag], 2)
+    pred = np.polyval(coef[:, 0], x[3]) + 1j * np.polyval(coef[:, 1], x[3])
+    return bool(abs(pts[1][3] - pred) < abs(pts[0][3] - pred))

@@ -1,0 +1,326 @@
+"""Kinematic analysis of a mechanism over a sweep of its drivers (the plug-in's entry).
+
+Owns :func:`kinematics`: geometry and plan, closure unknowns (Newton) where the plan
+has them, branch tracking, the final exact evaluation (positions, analogs σ = ds/dq,
+κ = dσ/dq), velocities and accelerations ``v = σ q̇``, ``a = κ q̇² + σ q̈`` for a
+constant driver speed, and the checks (link lengths, analogs against differences of
+positions, the constraint Jacobian's rank and determinant).
+
+Examples
+--------
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> r = kinematics(read_mechanism(example_path("slider-crank")), frames=4, speed=0.5)
+>>> [round(float(x), 3) for x in r.joints["B"]["x"]]
+[0.33, 0.257, 0.33, 0.441]
+>>> r.warnings
+[]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mjstruct.errors import MechanismError
+from mjstruct.kinematics.branches import BranchEvent, track_branches
+from mjstruct.kinematics.closure import Closure, close
+from mjstruct.kinematics.evaluate import Evaluation, evaluate
+from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.jacobian import JacobianCheck, check_jacobian
+from mjstruct.kinematics.planner import Plan, plan_kinematics
+from mjstruct.mechanism import Mechanism
+
+#: |det| of the driver-fixed Jacobian below this fraction of its largest value is flagged
+NEAR_SINGULAR = 1e-3
+
+
+@dataclass
+class KinematicsResult:
+    """Positions, analogs, velocities and accelerations over the frames, with the report.
+
+    ``q`` (frames × drivers); ``valid`` frames that assemble; ``joints`` / ``points``:
+    id -> {x, y, vx, vy, ax, ay, sx, sy, kx, ky} arrays (s: velocity analogs, k:
+    acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa}.
+    """
+
+    mechanism: Mechanism
+    plan: Plan
+    geometry: Geometry
+    q: np.ndarray
+    speed: float
+    valid: np.ndarray
+    joints: dict[str, dict[str, np.ndarray]]
+    points: dict[str, dict[str, np.ndarray]]
+    links: dict[str, dict[str, np.ndarray]]
+    events: list[BranchEvent]
+    warnings: list[str]
+    checks: dict[str, Any]
+    closure: Closure | None = None
+    jacobian: JacobianCheck | None = field(default=None, repr=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The contract's JSON object (nulls where a frame does not assemble)."""
+
+        def lst(a: np.ndarray) -> list[float | None]:
+            return [float(x) if ok and np.isfinite(x) else None for x, ok in zip(a, self.valid)]
+
+        keys_p = ("x", "y", "vx", "vy", "ax", "ay")
+        keys_l = ("angle", "omega", "eps")
+        q = self.q[:, 0] if self.q.shape[1] == 1 else self.q
+        return {
+            "name": self.mechanism.name,
+            "drivers": list(self.plan.drivers),
+            "speed": self.speed,
+            "q": [float(x) for x in q] if q.ndim == 1 else q.tolist(),
+            "joints": {j: {k: lst(v[k]) for k in keys_p} for j, v in self.joints.items()},
+            "links": {x: {k: lst(v[k]) for k in keys_l} for x, v in self.links.items()},
+            "points": {p: {k: lst(v[k]) for k in keys_p} for p, v in self.points.items()},
+            "warnings": list(self.warnings),
+            "plan": {
+                "reference": self.plan.reference,
+                "source": self.plan.source,
+                "steps": self.plan.describe(),
+                "complexity": self.plan.complexity(),
+            },
+            "branch_points": [
+                {
+                    "q": e.q,
+                    "frame": e.frame,
+                    "joint": e.joint,
+                    "kind": e.kind,
+                    "sine": e.sine,
+                    "mode": e.action,
+                }
+                for e in self.events
+            ],  # fmt: skip
+            "checks": self.checks,
+        }
+
+    def table(self) -> tuple[list[str], np.ndarray]:
+        """Columns (q, then x y vx vy ax ay per joint and point, angle ω ε per link)."""
+        names = [f"q{i + 1}" if self.q.shape[1] > 1 else "q" for i in range(self.q.shape[1])]
+        cols = [self.q[:, i] for i in range(self.q.shape[1])]
+        for kind in (self.joints, self.points):
+            for pid, v in kind.items():
+                for k in ("x", "y", "vx", "vy", "ax", "ay"):
+                    names.append(f"{pid}.{k}")
+                    cols.append(v[k])
+        for link, v in self.links.items():
+            for k in ("angle", "omega", "eps"):
+                names.append(f"{link}.{k}")
+                cols.append(v[k])
+        data = np.column_stack(cols)
+        data[~self.valid, self.q.shape[1] :] = np.nan
+        return names, data
+
+
+def sweep(geom: Geometry, plan: Plan, m: Mechanism, frames: int, speed: float, stroke: float):
+    """N frames over one cycle from the reference: a full turn, or ``stroke`` for a slide."""
+    if frames < 1:
+        raise MechanismError(f"--frames: must be >= 1, got {frames}")
+    if speed == 0:
+        raise MechanismError("--speed: must not be zero")
+    cols = []
+    for d in plan.drivers:
+        span = 2 * np.pi if m.joint(d).kind == "R" else stroke
+        cols.append(geom.driver_ref[d] + np.sign(speed) * span * np.arange(frames) / frames)
+    return np.column_stack(cols)
+
+
+def kinematics(
+    m: Mechanism,
+    drivers: Iterable[str] | None = None,
+    frames: int = 360,
+    speed: float = 1.0,
+    q: Sequence[float] | np.ndarray | None = None,
+    stroke: float = 1.0,
+    decomposition: object | None = None,
+    tol: float = 1e-12,
+    checks: bool = True,
+) -> KinematicsResult:
+    """Positions, analogs, velocities and accelerations of ``m`` over a driver sweep.
+
+    Parameters
+    ----------
+    drivers : generalised coordinates (default: the file's drivers); any joint's
+        relative angle or slide, not only a frame joint.
+    frames, speed : ``frames`` frames over one full cycle from the reference
+        configuration, every driver at constant speed ``speed`` (rad/s or length/s).
+    q : explicit driver values instead (frames, or frames × drivers), taken as a path.
+    stroke : the sweep of a prismatic driver.
+    tol : closure tolerance (relative to the mechanism's size) for iterated groups.
+    """
+    drv = tuple(m.drivers if drivers is None else drivers)
+    geom = read_geometry(m, drv)
+    plan = plan_kinematics(m, drv, decomposition=decomposition, geometry=geom)
+    if q is None:
+        qa = sweep(geom, plan, m, frames, speed, stroke)
+    else:
+        qa = np.asarray(q, float)
+        qa = qa[:, None] if qa.ndim == 1 else qa
+        if qa.ndim != 2 or qa.shape[1] != len(drv) or qa.shape[0] < 1:
+            raise MechanismError(f"q: expected frames × {len(drv)} driver values")
+        if not np.isfinite(qa).all():
+            raise MechanismError("q: driver values must be finite")
+    rates = np.ones(len(drv))
+    warnings: list[str] = []
+    sol = None
+    t = t1 = t2 = None
+    if plan.unknowns:
+        sol = close(plan, geom, m, qa, rates, tol=tol)
+        t, t1, t2 = sol.t, sol.t1, sol.t2
+        bad = ~sol.converged
+        if bad.any():
+            warnings.append(
+                f"closure did not converge to {tol:g} on {int(bad.sum())} frame(s) "
+                f"(first q = {qa[np.argmax(bad), 0]:.9g}); their values are null"
+            )
+    K, events = track_branches(plan, geom, m, qa, t)
+    with np.errstate(all="ignore"):
+        ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2, K=K)
+    result = _collect(m, plan, geom, qa, speed, ev)
+    if sol is not None:
+        result.valid &= sol.converged
+        result.closure = sol
+    result.events = events
+    warnings += [e.message() for e in events]
+    warnings += _infeasible(result)
+    result.warnings = warnings
+    if checks:
+        _checks(result, ev)
+    return result
+
+
+def _collect(m: Mechanism, plan: Plan, geom: Geometry, q, speed: float, ev: Evaluation):
+    W = float(speed)
+    joints: dict[str, dict[str, np.ndarray]] = {}
+    valid = np.ones(q.shape[0], bool)
+
+    def pack(X) -> dict[str, np.ndarray]:
+        nonlocal valid
+        valid &= np.isfinite(X[0]) & np.isfinite(X[1]) & np.isfinite(X[2])
+        return {
+            "x": X[0].real, "y": X[0].imag,
+            "vx": X[1].real * W, "vy": X[1].imag * W,
+            "ax": X[2].real * W * W, "ay": X[2].imag * W * W,
+            "sx": X[1].real, "sy": X[1].imag, "kx": X[2].real, "ky": X[2].imag,
+        }  # fmt: skip
+
+    for j in m.joints:
+        joints[j.id] = pack(ev.centre(j.id))
+    points = {pid: pack(ev.poses[link].point(z)) for pid, (link, z) in geom.points.items()}
+    links: dict[str, dict[str, np.ndarray]] = {}
+    for link in m.links:
+        p = ev.poses[link]
+        theta = np.angle(p.r)
+        ok = np.isfinite(theta)
+        if ok.any():
+            theta[ok] = np.unwrap(theta[ok])
+            # start from the principal value at the first frame (reference angle added)
+        ang = theta + geom.char_angle[link]
+        links[link] = {
+            "angle": ang,
+            "omega": p.w[0] * W,
+            "eps": p.w[1] * W * W,
+            "sigma": p.w[0],
+            "kappa": p.w[1],
+        }
+        valid &= np.isfinite(p.w[0]) & np.isfinite(p.w[1])
+    return KinematicsResult(m, plan, geom, q, W, valid, joints, points, links, [], [], {})
+
+
+def _infeasible(r: KinematicsResult) -> list[str]:
+    """Runs of frames that do not assemble, with their q range."""
+    out = []
+    bad = ~r.valid
+    i, F = 0, bad.size
+    while i < F:
+        if bad[i]:
+            j = i
+            while j + 1 < F and bad[j + 1]:
+                j += 1
+            out.append(
+                f"no assembly for q in [{r.q[i, 0]:.9g}, {r.q[j, 0]:.9g}] "
+                f"(frames {i}..{j}); values are null"
+            )
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def _checks(r: KinematicsResult, ev: Evaluation) -> None:
+    m, g, v = r.mechanism, r.geometry, r.valid
+    # link lengths: every pair of centres (and points) on one link over the valid frames
+    worst = 0.0
+    worst_link = ""
+    for link in m.links:
+        ids = [j for j in m.link_joints[link] if m.joint(j).kind == "R"]
+        ids += [p for p, (lk, _) in g.points.items() if lk == link]
+        pos = {i: _position(r, i) for i in ids}
+        ref = {i: g.centres[i] if i in g.centres else g.points[i][1] for i in ids}
+        for a_i, a in enumerate(ids):
+            for b in ids[a_i + 1 :]:
+                d = np.abs(pos[a][v] - pos[b][v]) - abs(ref[a] - ref[b])
+                e = float(np.abs(d).max()) if d.size else 0.0
+                if e > worst:
+                    worst, worst_link = e, link
+    r.checks["link_lengths"] = {"max_error": worst, "link": worst_link or None}
+    # analogs against central differences of positions (uniform sweeps only)
+    q = r.q[:, 0]
+    F = q.size
+    if F >= 5 and r.q.shape[1] == 1 and np.allclose(np.diff(q), q[1] - q[0], rtol=1e-9, atol=0):
+        h = q[1] - q[0]
+        err = 0.0
+        big = 0.0
+        for data in list(r.joints.values()) + list(r.points.values()):
+            for c, s in (("x", "sx"), ("y", "sy")):
+                x, sx = data[c], data[s]
+                fd = (x[2:] - x[:-2]) / (2 * h)
+                ok = v[2:] & v[:-2] & v[1:-1]
+                if ok.any():
+                    err = max(err, float(np.abs(fd - sx[1:-1])[ok].max()))
+                    big = max(big, float(np.abs(sx[1:-1])[ok].max()))
+        r.checks["analogs_vs_differences"] = {
+            "max_error": err,
+            "max_analog": big,
+            "step": float(h),
+        }
+    # constraint Jacobian: rank (mobility refinement) and driver-fixed determinant
+    with np.errstate(all="ignore"):
+        jc = check_jacobian(m, g, ev.poses, r.plan.drivers)
+    r.jacobian = jc
+    ranks = sorted({int(x) for x in jc.rank[v]}) if v.any() else []
+    dets = np.abs(jc.det)
+    top = float(np.nanmax(dets[v])) if v.any() and np.isfinite(dets[v]).any() else float("nan")
+    flagged = np.flatnonzero(v & (dets < NEAR_SINGULAR * top)) if np.isfinite(top) else []
+    dof = jc.coordinates - (max(ranks) if ranks else 0)
+    r.checks["jacobian"] = {
+        "equations": jc.equations,
+        "coordinates": jc.coordinates,
+        "rank": ranks,
+        "redundant_constraints": jc.equations - max(ranks) if ranks else None,
+        "dof": dof,
+        "min_abs_det": float(np.nanmin(dets[v])) if v.any() else None,
+        "max_abs_det": top if np.isfinite(top) else None,
+        "near_singular_frames": [int(i) for i in flagged],
+    }
+    if len(flagged):
+        r.warnings.append(
+            f"near-singular Jacobian (|det| < {NEAR_SINGULAR:g} of its maximum) at "
+            f"{len(flagged)} frame(s), first q = {r.q[flagged[0], 0]:.9g}"
+        )
+    if ranks and max(ranks) < jc.equations:
+        r.warnings.append(
+            f"constraint Jacobian rank {max(ranks)} < {jc.equations} equations: "
+            f"{jc.equations - max(ranks)} redundant constraint(s)"
+        )
+
+
+def _position(r: KinematicsResult, ident: str) -> np.ndarray:
+    d = r.joints.get(ident) or r.points[ident]
+    return d["x"] + 1j * d["y"]
