@@ -180,6 +180,18 @@ def test_generic_dof_is_formula_plus_redundancy(m):
         assert rows - numeric_rank(sub) >= k  # it holds at least its redundant bars
 
 
+@pytest.mark.parametrize("order", [["3", "4", "5"], ["5", "3", "4"], ["4", "5", "3"]])
+def test_mj_counts_its_pins_inside_every_sub_chain(order):
+    # links 3, 4 share the MJ M and a second pin B: over-constrained by one whatever
+    # link is listed first (a star from link 5 would hide it)
+    m = Mechanism.build([("M", order), ("B", ["3", "4"])])
+    r = rigidity(m)
+    assert r.rank == numeric_rank(m) == 5
+    assert r.dof == 1 and r.redundant in (("B",), ("M",))
+    assert [set(links) for links, _ in r.regions] == [{"3", "4"}]
+    assert [set(c) for c in rigid_components(m)] == [{"3", "4"}]
+
+
 def test_redundancy_is_located_in_the_double_four_bar():
     # five-bar 0-1-2-3-4 (F = 2) carrying a double four-bar {4,5,6,7} (one pin too many)
     m = Mechanism.build(

@@ -46,7 +46,7 @@ from typing import Any
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Joint, Mechanism
-from mjstruct.structure.pebble import BODY_PEBBLES, POINT_PEBBLES, PebbleGame
+from mjstruct.structure.pebble import PebbleGame, body_components, pin_edges
 
 ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 7: "VII", 8: "VIII", 9: "IX"}
 
@@ -245,28 +245,19 @@ class _Model:
         return len(self.bodies) - 1
 
 
-def _edges(joints: Sequence[_LevelJoint], index: dict[int, int]) -> tuple[int, list]:
-    """Edges of the pebble game: 2 bars per simple joint, a point vertex for an R MJ."""
-    edges: list[tuple[int, int]] = []
-    points = 0
-    nxt = len(index)
-    for j, touched in joints:
-        vs = [index[b] for b in touched]
-        if len(vs) == 2 or j.kind != "R":
-            edges += [(vs[0], w) for w in vs[1:] for _ in range(2)]
-        else:
-            edges += [(nxt + points, w) for w in vs for _ in range(2)]
-            points += 1
-    return points, edges
-
-
-def _game(bodies: Sequence[int], joints: Sequence[_LevelJoint]) -> tuple[PebbleGame, int, int]:
-    """Play the game on ``bodies`` (vertex k = bodies[k]); return game, rejected, points."""
+def _game(bodies: Sequence[int], joints: Sequence[_LevelJoint]) -> tuple[PebbleGame, int]:
+    """Play the game on ``bodies`` (vertex k = bodies[k]); return the game and rejections."""
     index = {b: k for k, b in enumerate(bodies)}
-    points, edges = _edges(joints, index)
-    game = PebbleGame([BODY_PEBBLES] * len(bodies) + [POINT_PEBBLES] * points)
-    rejected = sum(not game.add_edge(u, v) for u, v in edges)
-    return game, rejected, points
+    capacities, edges = pin_edges(len(bodies), _indexed(joints, index))
+    game = PebbleGame(capacities)
+    rejected = sum(not game.add_edge(u, v) for u, v, _ in edges)
+    return game, rejected
+
+
+def _indexed(
+    joints: Sequence[_LevelJoint], index: dict[int, int]
+) -> list[tuple[str, str, list[int]]]:
+    return [(j.id, j.kind, [index[b] for b in touched]) for j, touched in joints]
 
 
 def _restrict(joints: Sequence[_LevelJoint], keep: set[int]) -> list[_LevelJoint]:
@@ -284,26 +275,9 @@ def _rigid_clusters(members: Sequence[int], joints: Sequence[_LevelJoint]) -> li
     if not sub:
         return []
     index = {b: k for k, b in enumerate(members)}
-    game = PebbleGame([BODY_PEBBLES] * len(members))
-    pairs = []
-    for _, touched in sub:
-        vs = [index[b] for b in touched]
-        for w in vs[1:]:
-            game.add_edge(vs[0], w)
-            game.add_edge(vs[0], w)
-            pairs.append((vs[0], w))
-    comp_of = [-1] * len(members)
-    comps: list[list[int]] = []
-    for u, v in pairs:
-        if comp_of[u] >= 0 and comp_of[u] == comp_of[v]:
-            continue
-        comp = game.rigid_component(u, v)
-        if comp is None:
-            continue
-        for w in comp:
-            comp_of[w] = len(comps)
-        comps.append([members[w] for w in comp])
-    return [c for c in comps if len(c) >= 2]
+    game, _ = _game(members, sub)
+    comps = body_components(game, len(members), _indexed(sub, index))
+    return [[members[w] for w in c] for c in comps if len(c) >= 2]
 
 
 def _tarjan(out: Sequence[Sequence[int]], skip: int) -> list[list[int]]:
@@ -430,7 +404,7 @@ def _pinned_groups(
     """Strongly connected components of the pinned pebble orientation, in order."""
     groups: list[AssurGroup] = []
     order = [pinned, *members]
-    game, rejected, _ = _game(order, joints)
+    game, rejected = _game(order, joints)
     game.pin(0)
     if rejected or any(game.pebbles[1:]):
         raise MechanismError("internal: a sub-chain is not isostatic after the global check")
@@ -510,7 +484,7 @@ def _check_drivers(m: Mechanism, drivers: Sequence[str]) -> None:
 def _balance(model: _Model) -> tuple[int, int]:
     """(redundant constraints, DOF left) with the drivers held."""
     bodies = list(range(len(model.bodies)))
-    game, rejected, _ = _game(bodies, model.joints)
+    game, rejected = _game(bodies, model.joints)
     dof_left = game.free_pebbles - 3
     return rejected + len(model.welded_twice), dof_left
 
@@ -621,6 +595,7 @@ class _Grower:
     rng: random.Random
     joints: list[tuple[str, list[str], str]] = field(default_factory=list)
     placed: list[str] = field(default_factory=list)
+    used: set[str] = field(default_factory=set)  # joints extended by the current group
     count: int = 0
 
     def new_link(self) -> str:
@@ -629,9 +604,12 @@ class _Grower:
 
     def attach(self, link: str, mj: float, known: int) -> None:
         """Pin ``link`` to a placed link: on a known R joint (making an MJ) or anew."""
-        rj = [j for j in self.joints[:known] if j[2] == "R"]
+        # a joint takes one link of a group at most: two would be pinned twice together
+        rj = [j for j in self.joints[:known] if j[2] == "R" and j[0] not in self.used]
         if rj and self.rng.random() < mj:
-            self.rng.choice(rj)[1].append(link)
+            joint = self.rng.choice(rj)
+            joint[1].append(link)
+            self.used.add(joint[0])
         else:
             kind = "P" if self.rng.random() < 0.1 else "R"
             self.joints.append(
@@ -658,6 +636,7 @@ def random_mechanism(groups: int, seed: int = 0, mj: float = 0.3) -> Mechanism:
     g.placed.append(crank)
     for _ in range(groups):
         known = len(g.joints)  # joints whose position is known before this group
+        g.used.clear()
         kind = g.rng.random()
         if kind < 0.6:  # dyad
             a, b = g.new_link(), g.new_link()

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from mjstruct.mechanism import Mechanism
-from mjstruct.structure.pebble import _components, _play, body_bars
+from mjstruct.structure.pebble import _chain_joints, _play, body_components
 
 
 @dataclass(frozen=True)
@@ -115,10 +115,15 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
     second link to its first, ``redundant_drivers`` are those bars the game rejects and
     ``free_links`` the links still movable with the drivers held.
     """
-    bars = body_bars(m)
-    game, index, res = _play(m.links, bars)
-    F_formula = 3 * (m.n - 1) - len(bars)
-    comps = _components(game, m.links, [(index[a], index[b]) for _, a, b in bars], 2)
+    index = {x: k for k, x in enumerate(m.links)}
+    joints = _chain_joints(m, index)
+    game, _, res = _play(m.links, joints)
+    p = sum(j.multiplicity for j in m.joints)
+    F_formula = 3 * (m.n - 1) - 2 * p
+    comps = [
+        tuple(m.links[w] for w in c) for c in body_components(game, m.n, joints) if len(c) >= 2
+    ]
+    comps.sort(key=lambda c: (-len(c), c))
     locked: tuple[str, ...] = ()
     if m.frame is not None:
         home = next((c for c in comps if m.frame in c), ())
@@ -127,18 +132,19 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
     redundant_drivers: list[str] = []
     F_driven = None
     if m.frame is not None and m.drivers:
-        driver_bars = [(d, m.joint(d).links[0], m.joint(d).links[1]) for d in m.drivers]
-        for d, a, b in driver_bars:
-            if not game.add_edge(index[a], index[b]):
+        welds = []
+        for d in m.drivers:
+            a, b = (index[x] for x in m.joint(d).links[:2])
+            welds.append((d, "weld", [a, b]))
+            if not game.add_edge(a, b):
                 redundant_drivers.append(d)
-        F_driven = 3 * (m.n - 1) - game.rank
-        edges = [(index[a], index[b]) for _, a, b in bars + driver_bars]
-        driven_comps = _components(game, m.links, edges, 1)
-        home = next(c for c in driven_comps if m.frame in c)
-        free = tuple(x for x in m.links if x not in home)
+        F_driven = res.dof - (len(m.drivers) - len(redundant_drivers))
+        driven = body_components(game, m.n, joints + welds)
+        home_k = next((c for c in driven if index[m.frame] in c), [index[m.frame]])
+        free = tuple(x for x in m.links if index[x] not in home_k)
     return GenericMobility(
         n=m.n,
-        p=len(bars) // 2,
+        p=p,
         N=len(m.drivers),
         F_formula=F_formula,
         F_generic=res.dof,

@@ -2,14 +2,18 @@
 
 This module owns the combinatorial rigidity of planar body-and-pin chains.  A planar
 chain of rigid links joined by one-freedom pairs is generically a *body-bar*
-framework: every simple joint (R or P) is two bars between its two links, and a
-multiple joint (MJ) joining m links is m - 1 simple joints, expanded as a star from
-its first link (the rank does not depend on the star).  The bar sets that are
-independent for generic geometry are exactly the (3,3)-sparse multigraphs (Tay), and
-the pebble game of Lee and Streinu finds a maximal independent set in O(n·m):
+framework: every simple joint (R or P) is two bars between its two links (Tay: the
+independent bar sets are the (3,3)-sparse multigraphs).  A revolute multiple joint
+(MJ) joining m links is m - 1 simple joints, but *which* pairs matters for sub-chains:
+a star from one link hides a redundancy between two others (links 3, 4 sharing the MJ
+and a second pin are over-constrained whatever the third link does).  So an MJ is a
+point vertex with 2 pebbles tied to each of its links by 2 edges: every sub-chain
+holding k of its links counts 2(k - 1) constraints, the body-and-pin count.  The
+pebble game of Lee and Streinu (one vertex capacity per vertex) finds a maximal
+independent set in O(n·m):
 
 * rank = number of accepted bars; generic DOF ``F = 3(n - 1) - rank``;
-* every rejected bar is a redundant constraint; the set of links the failed pebble
+* every rejected edge is a redundant constraint; the set of links the failed pebble
   search reached is a rigid sub-chain holding it (*where* the redundancy sits);
 * maximal rigid sub-chains (rigid components) come from the final pebble orientation.
 
@@ -31,6 +35,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -163,39 +168,52 @@ class PebbleGame:
         return [w for w in range(n) if not loose[w]]
 
 
-# -- body-bar model of a chain -------------------------------------------------------
+# -- the body-and-pin model of a chain -----------------------------------------------
 
 
-def body_bars(m: Mechanism) -> list[tuple[str, str, str]]:
-    """The bars of the body-bar model: ``(joint id, link, link)``, two per simple joint.
+def pin_edges(
+    n_bodies: int, joints: Iterable[tuple[str, str, Sequence[int]]]
+) -> tuple[list[int], list[tuple[int, int, str]]]:
+    """Vertices and edges of the game for bodies ``0..n_bodies-1``.
 
-    An MJ is expanded as a star from its first listed link.
-
-    >>> from mjstruct.mechanism import Mechanism
-    >>> m = Mechanism.build([("A", [0, 1, 2]), ("b", [1, 2]), ("c", [2, 0])])
-    >>> body_bars(m)[:4]
-    [('A', '0', '1'), ('A', '0', '1'), ('A', '0', '2'), ('A', '0', '2')]
+    ``joints`` are ``(joint id, kind, distinct bodies)``.  A joint of two bodies (and a
+    prismatic MJ, as a star from its first body) is two bars per pair; a revolute MJ
+    of m >= 3 bodies is a point vertex (2 pebbles) tied to each body by two edges, so
+    that it counts 2(k - 1) constraints inside every sub-chain holding k of its bodies
+    (a fixed star would not: a star from a third link hides a redundancy between two).
+    Returns the pebble capacities and the edges ``(u, v, joint id)``.
     """
-    bars = []
-    for j in m.joints:
-        hub = j.links[0]
-        for other in j.links[1:]:
-            bars += [(j.id, hub, other)] * 2
-    return bars
+    capacities = [BODY_PEBBLES] * n_bodies
+    edges: list[tuple[int, int, str]] = []
+    for jid, kind, bodies in joints:
+        if len(bodies) < 2:
+            continue
+        if len(bodies) == 2 or kind != "R":
+            edges += [(bodies[0], w, jid) for w in bodies[1:] for _ in range(2)]
+        else:
+            point = len(capacities)
+            capacities.append(POINT_PEBBLES)
+            edges += [(point, w, jid) for w in bodies for _ in range(2)]
+    return capacities, edges
+
+
+def _chain_joints(m: Mechanism, index: dict[str, int]) -> list[tuple[str, str, list[int]]]:
+    return [(j.id, j.kind, [index[x] for x in j.links]) for j in m.joints]
 
 
 @dataclass(frozen=True)
 class RigidityResult:
-    """Outcome of the pebble game on a chain's body-bar model.
+    """Outcome of the pebble game on a chain.
 
-    ``redundant`` lists the rejected bars ``(joint, link, link)``; ``regions`` are the
-    over-constrained sub-chains (link sets, each rigid) with the number of redundant
-    bars each holds.
+    ``rank`` counts independent constraints (2 per simple-joint equivalent when none is
+    redundant); ``redundant`` lists the joint of every redundant constraint (with
+    repetition); ``regions`` are the over-constrained sub-chains (link sets, each
+    rigid) with the number of redundant constraints each holds.
     """
 
     n: int
     rank: int
-    redundant: tuple[tuple[str, str, str], ...]
+    redundant: tuple[str, ...]
     regions: tuple[tuple[tuple[str, ...], int], ...]
 
     @property
@@ -205,19 +223,19 @@ class RigidityResult:
 
 
 def _play(
-    links: Sequence[str], bars: Iterable[tuple[str, str, str]]
-) -> tuple[PebbleGame, dict[str, int], RigidityResult]:
-    index = {link: k for k, link in enumerate(links)}
-    game = PebbleGame([BODY_PEBBLES] * len(links))
-    rejected: list[tuple[str, str, str]] = []
+    links: Sequence[str], joints: Iterable[tuple[str, str, Sequence[int]]]
+) -> tuple[PebbleGame, list[tuple[int, int, str]], RigidityResult]:
+    n = len(links)
+    capacities, edges = pin_edges(n, joints)
+    game = PebbleGame(capacities)
+    rejected: list[str] = []
     regions: list[set[int]] = []
     counts: list[int] = []
-    for bar in bars:
-        u, v = index[bar[1]], index[bar[2]]
+    for u, v, jid in edges:
         if game.add_edge(u, v):
             continue
-        rejected.append(bar)
-        region = set(game.last_region)
+        rejected.append(jid)
+        region = {w for w in game.last_region if w < n}  # bodies only, not pin points
         # overlapping rigid regions merge into one rigid region (they share a body)
         keep_regions, keep_counts, total = [], [], 1
         for r, c in zip(regions, counts, strict=True):
@@ -232,28 +250,30 @@ def _play(
         (tuple(links[k] for k in sorted(r)), c)
         for r, c in sorted(zip(regions, counts, strict=True), key=lambda rc: min(rc[0]))
     )
-    result = RigidityResult(len(links), game.rank, tuple(rejected), named)
-    return game, index, result
+    points = len(capacities) - n
+    rank = game.rank - POINT_PEBBLES * points  # a pin point's own 2 DOF are always taken
+    return game, edges, RigidityResult(n, rank, tuple(rejected), named)
 
 
 def rigidity(m: Mechanism) -> RigidityResult:
     """Run the (3,3) pebble game on the chain (drivers ignored).
 
     A four-bar with a fifth pin across it: formula F = -1, generic F = 0, one
-    redundant bar, and the whole chain is the over-constrained region.
+    redundant constraint, and the whole chain is the over-constrained region.
 
     >>> from mjstruct.mechanism import Mechanism
     >>> double = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 3]),
     ...                           ("O2", [3, 0]), ("C", [1, 3])], frame=0)
     >>> r = rigidity(double)
     >>> r.dof, r.redundant, r.regions
-    (0, (('C', '1', '3'),), ((('0', '1', '2', '3'), 1),))
+    (0, ('C',), ((('0', '1', '2', '3'), 1),))
     """
-    return _play(m.links, body_bars(m))[2]
+    index = {x: k for k, x in enumerate(m.links)}
+    return _play(m.links, _chain_joints(m, index))[2]
 
 
 def pebble_rank(m: Mechanism) -> int:
-    """Rank of the chain's constraints for generic geometry (accepted bars)."""
+    """Rank of the chain's constraints for generic geometry."""
     return rigidity(m).rank
 
 
@@ -264,30 +284,38 @@ def generic_dof(m: Mechanism) -> int:
 
 def rigid_components(m: Mechanism, min_links: int = 2) -> list[tuple[str, ...]]:
     """Maximal rigid sub-chains with at least ``min_links`` links (drivers ignored)."""
-    game, index, _ = _play(m.links, body_bars(m))
-    return _components(
-        game, m.links, [(index[a], index[b]) for _, a, b in body_bars(m)], min_links
-    )
+    index = {x: k for k, x in enumerate(m.links)}
+    joints = _chain_joints(m, index)
+    game, _, _ = _play(m.links, joints)
+    comps = body_components(game, len(m.links), joints)
+    out = [tuple(m.links[w] for w in c) for c in comps if len(c) >= min_links]
+    return sorted(out, key=lambda c: (-len(c), c))
 
 
-def _components(
-    game: PebbleGame, names: Sequence[str], edges: Iterable[tuple[int, int]], min_links: int
-) -> list[tuple[str, ...]]:
-    comp_of = [-1] * len(names)
+def body_components(
+    game: PebbleGame, n_bodies: int, joints: Iterable[tuple[str, str, Sequence[int]]]
+) -> list[list[int]]:
+    """Maximal sets of mutually rigid bodies (of >= 2 bodies) after all edges are in.
+
+    Bodies u, v sharing a joint are rigid together when no fourth pebble reaches them;
+    their component is every body that cannot reach a free pebble elsewhere.
+    """
+    comp_of = [-1] * n_bodies
     comps: list[list[int]] = []
     tried: set[tuple[int, int]] = set()
-    for u, v in edges:
-        if comp_of[u] >= 0 and comp_of[u] == comp_of[v]:
-            continue
-        key = (min(u, v), max(u, v))
-        if key in tried:  # parallel bars: one test per pair of bodies
-            continue
-        tried.add(key)
-        comp = game.rigid_component(u, v)
-        if comp is None:
-            continue
-        for w in comp:
-            comp_of[w] = len(comps)
-        comps.append(comp)
-    out = [tuple(names[w] for w in sorted(c)) for c in comps if len(c) >= min_links]
-    return sorted(out, key=lambda c: (-len(c), c))
+    for _, _, bodies in joints:
+        for u, v in itertools.combinations(bodies, 2):
+            if comp_of[u] >= 0 and comp_of[u] == comp_of[v]:
+                continue
+            key = (min(u, v), max(u, v))
+            if key in tried:
+                continue
+            tried.add(key)
+            comp = game.rigid_component(u, v)
+            if comp is None:
+                continue
+            found = sorted(w for w in comp if w < n_bodies)
+            for w in found:
+                comp_of[w] = len(comps)
+            comps.append(found)
+    return comps
