@@ -189,17 +189,23 @@ def close(
             acc = 0.0
     T = np.zeros((len(stations), k))
     D = np.zeros((len(stations), k))
-    T[0] = t_cur[0]
+    good = np.zeros(len(stations), bool)
+    T[0], good[0] = t_cur[0], True
+    last = 0
     for n, i in enumerate(stations):
         Ks = _subset_modes(K, np.array([i]))
         if n > 0:
-            guess = T[n - 1] + D[n - 1] * (i - stations[n - 1])
-            T[n], _, _, _ = (lambda r: (r[0][0], *r[1:]))(
-                newton(plan, geom, m, q[i : i + 1], guess[None, :], Ks, tol, maxiter)
-            )
-        D[n] = _tangent(plan, geom, m, q[i : i + 1], T[n : n + 1], Ks, _frame_rate(q, i))[0]
-    # 3. cubic Hermite guess on every frame, then Newton on all frames together
-    guess = _hermite(np.array(stations, float), T, D, np.arange(F, dtype=float))
+            guess = T[last] + D[last] * (i - stations[last])
+            tn, _, _, okn = newton(plan, geom, m, q[i : i + 1], guess[None, :], Ks, tol, maxiter)
+            good[n] = bool(okn[0])
+            T[n] = tn[0] if good[n] else T[last]
+        if good[n]:
+            d = _tangent(plan, geom, m, q[i : i + 1], T[n : n + 1], Ks, _frame_rate(q, i))[0]
+            D[n] = np.where(np.isfinite(d), d, 0.0)
+            last = n
+    # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
+    x = np.array(stations, float)[good]
+    guess = _hermite(x, T[good], D[good], np.arange(F, dtype=float))
     t, err, iters, ok = newton(plan, geom, m, q, guess, K, tol, maxiter)
     t1, t2 = derivatives(plan, geom, m, q, t, rate, K)
     return Closure(t, t1, t2, err, iters, ok, tol)

@@ -172,7 +172,9 @@ def kinematics(
     t = t1 = t2 = None
     if plan.unknowns:
         sol = close(plan, geom, m, qa, rates, tol=tol)
-        t, t1, t2 = sol.t, sol.t1, sol.t2
+        # frames that did not close carry no configuration (null, reported)
+        t = np.where(sol.converged[:, None], sol.t, np.nan)
+        t1, t2 = sol.t1, sol.t2
         bad = ~sol.converged
         if bad.any():
             warnings.append(
