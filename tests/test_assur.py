@@ -48,6 +48,8 @@ def dof_with_fixed(m: Mechanism, moving: set[str], fixed: set[str], seed: int = 
         inside = [x for x in j.links if x in keep]
         if len(inside) >= 2:
             joints.append((j.id, inside, j.kind))
+    if not joints:
+        return 3 * len(moving)
     sub = Mechanism.build(joints)
     drivers = [d for d in m.drivers if all(x in keep for x in m.joint(d).links[:2])]
     sub = sub.with_drivers(drivers)
@@ -68,9 +70,8 @@ def check_decomposition(m: Mechanism, d: Decomposition, minimal_up_to: int = 5) 
     placed_in: dict[tuple[str, ...], set[str]] = {}
     for g in d.groups:
         assert 3 * len(g.bodies) == 2 * g.pairs, "3 n_g = 2 p_g"
-        assert g.klass >= 2 and g.order == len(
-            [(j, x) for j in g.external for x in m.joint(j).links if any(x in b for b in g.bodies)]
-        )
+        at = [sum(any(x in b for x in m.joint(j).links) for b in g.bodies) for j in g.external]
+        assert g.klass >= 2 and g.order == sum(at) and min(at) >= 1
         if g.within:  # solved in the frame of its reference body, inside a rigid cluster
             placed = placed_in.setdefault(g.within, set())
             if not placed:
@@ -253,8 +254,8 @@ def test_driver_choices_rank_by_class_and_report_bad_choices():
 # -- properties on random mechanisms (F = N = 1) ------------------------------------
 
 
-@settings(max_examples=25, deadline=None)
-@given(st.integers(1, 6), st.integers(0, 10**6), st.sampled_from([0.0, 0.3, 0.6]))
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 8), st.integers(0, 10**6), st.sampled_from([0.0, 0.3, 0.6]))
 def test_random_mechanisms_decompose_into_minimal_solvable_groups(groups, seed, mj):
     m = random_mechanism(groups, seed=seed, mj=mj)
     d = assur_groups(m)

@@ -347,13 +347,47 @@ def group_class(bodies: Sequence[Any], internal: Sequence[Sequence[Any]]) -> int
     edges = sum(len(t) for t in internal)
     if edges - len(internal) - len(per_body) + 1 <= 0:  # bipartite graph is a tree
         return max(2, base)
-    import networkx as nx
+    return max(2, base, _longest_contour(internal))
 
-    g = nx.Graph()
+
+def _longest_contour(internal: Sequence[Sequence[Any]]) -> int:
+    """Largest number of links on the shortest closed contour through any incidence.
+
+    The contour graph is bipartite (links, internal joints), so an MJ is one vertex and
+    a contour never passes twice through it; a contour of k links has 2k edges.
+    """
+    adj: dict[Any, list[Any]] = {}
     for k, touched in enumerate(internal):
-        g.add_edges_from((("joint", k), ("body", b)) for b in touched)
-    contour = max((len(c) // 2 for c in nx.minimum_cycle_basis(g)), default=0)
-    return max(2, base, contour)
+        joint = ("joint", k)
+        for b in touched:
+            adj.setdefault(joint, []).append(("body", b))
+            adj.setdefault(("body", b), []).append(joint)
+    longest = 0
+    for k, touched in enumerate(internal):
+        joint = ("joint", k)
+        for b in touched:
+            # shortest path body -> joint that avoids the edge itself, by BFS
+            start, goal = ("body", b), joint
+            dist = {start: 0}
+            frontier = [start]
+            found = None
+            while frontier and found is None:
+                nxt = []
+                for x in frontier:
+                    for y in adj[x]:
+                        if (x, y) == (start, goal) or y in dist:
+                            continue
+                        dist[y] = dist[x] + 1
+                        if y == goal:
+                            found = dist[y]
+                            break
+                        nxt.append(y)
+                    if found is not None:
+                        break
+                frontier = nxt
+            if found is not None:
+                longest = max(longest, (found + 1) // 2)
+    return longest
 
 
 def _level(
