@@ -137,7 +137,7 @@ def track_branches(
             continue
         base_mode = reference_mode(plan, geom, k)
         K[k] = np.full(F, base_mode, dtype=np.int8)
-        sine, ev = _sine(plan, geom, m, q, K, k, t)
+        sine, _ = _sine(plan, geom, m, q, K, k, t)
         ok = np.isfinite(sine)
         i = 1
         while i < F - 1:
@@ -160,8 +160,8 @@ def track_branches(
                 if not (ok[i - 1] and ok[i + 1]):
                     i += 1
                     continue
-                v = sine[i] <= 0.25 * (sine[i - 1] + sine[i + 1]) and sine[i] < WATCH
-                if not v:
+                dip = sine[i] <= min(sine[i - 1], sine[i + 1]) and sine[i] < WATCH
+                if not dip:
                     i += 1
                     continue
                 cand, after = i, i + 1
@@ -171,12 +171,12 @@ def track_branches(
                     smin, qstar = float(sine[i]), float(q[i, 0])
                 kind = "change point" if smin < MEET else "near branch point"
             action = "kept"
-            if kind != "near branch point" and switchable and cand >= 3 and after < F:
-                if _smoother_flipped(plan, geom, m, q, K, k, s.joint, cand, after):
-                    K[k][after:] *= -1
-                    action = "switched"
-                    sine, ev = _sine(plan, geom, m, q, K, k, t)
-                    ok = np.isfinite(sine)
+            legal = kind != "near branch point" and switchable and cand >= 3 and after < F
+            if legal and _smoother_flipped(plan, geom, m, q, K, k, s.joint, cand, after):
+                K[k][after:] *= -1
+                action = "switched"
+                sine, _ = _sine(plan, geom, m, q, K, k, t)
+                ok = np.isfinite(sine)
             events.append(BranchEvent(qstar, cand, k, s.joint, kind, smin, action))
             i = after + 1
         # limits of feasible intervals (dead positions)

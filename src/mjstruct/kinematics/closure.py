@@ -178,15 +178,16 @@ def close(
         t_cur, _, _, _ = newton(
             plan, geom, m, qs[None, :], t_cur, _subset_modes(K, np.array([0])), tol, maxiter
         )
-    # 2. stations along the frames; prediction by the tangent dt/dframe
-    steps = np.abs(np.diff(q, axis=0)).max(axis=1) if F > 1 else np.zeros(0)
+    # 2. stations along the frames, by arc length of the path in q; tangent prediction
+    seg = np.abs(np.diff(q, axis=0)).max(axis=1) if F > 1 else np.zeros(0)
+    arc = np.concatenate([[0.0], np.cumsum(seg)])
     stations = [0]
-    acc = 0.0
-    for i, h in enumerate(steps, start=1):
-        acc += h
-        if acc >= STATION_STEP or i == F - 1:
+    for i in range(1, F):
+        if arc[i] - arc[stations[-1]] >= STATION_STEP or i == F - 1:
+            # keep the station before a long jump too, so prediction spans one segment
+            if i > 1 and stations[-1] != i - 1 and arc[i] - arc[i - 1] >= STATION_STEP:
+                stations.append(i - 1)
             stations.append(i)
-            acc = 0.0
     T = np.zeros((len(stations), k))
     D = np.zeros((len(stations), k))
     good = np.zeros(len(stations), bool)
@@ -195,28 +196,30 @@ def close(
     for n, i in enumerate(stations):
         Ks = _subset_modes(K, np.array([i]))
         if n > 0:
-            guess = T[last] + D[last] * (i - stations[last])
+            guess = T[last] + D[last] * (arc[i] - arc[stations[last]])
             tn, _, _, okn = newton(plan, geom, m, q[i : i + 1], guess[None, :], Ks, tol, maxiter)
             good[n] = bool(okn[0])
             T[n] = tn[0] if good[n] else T[last]
         if good[n]:
-            d = _tangent(plan, geom, m, q[i : i + 1], T[n : n + 1], Ks, _frame_rate(q, i))[0]
+            d = _tangent(plan, geom, m, q[i : i + 1], T[n : n + 1], Ks, _direction(q, i))[0]
             D[n] = np.where(np.isfinite(d), d, 0.0)
             last = n
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
-    x = np.array(stations, float)[good]
-    guess = _hermite(x, T[good], D[good], np.arange(F, dtype=float))
+    x = arc[np.array(stations)][good]
+    guess = _hermite(x, T[good], D[good], arc)
     t, err, iters, ok = newton(plan, geom, m, q, guess, K, tol, maxiter)
     t1, t2 = derivatives(plan, geom, m, q, t, rate, K)
     return Closure(t, t1, t2, err, iters, ok, tol)
 
 
-def _frame_rate(q: np.ndarray, i: int) -> np.ndarray:
-    """dq/dframe at frame i (one-sided at the ends)."""
+def _direction(q: np.ndarray, i: int) -> np.ndarray:
+    """dq/ds at frame i along the path (s: arc length in the max norm)."""
     if q.shape[0] == 1:
         return np.zeros(q.shape[1])
     j = min(i, q.shape[0] - 2)
-    return q[j + 1] - q[j]
+    d = q[j + 1] - q[j]
+    n = np.abs(d).max()
+    return d / n if n > 0 else d
 
 
 def _tangent(plan, geom, m, q, t, K, rate) -> np.ndarray:

@@ -66,7 +66,10 @@ class KinematicsResult:
         """The contract's JSON object (nulls where a frame does not assemble)."""
 
         def lst(a: np.ndarray) -> list[float | None]:
-            return [float(x) if ok and np.isfinite(x) else None for x, ok in zip(a, self.valid)]
+            return [
+                float(x) if ok and np.isfinite(x) else None
+                for x, ok in zip(a, self.valid, strict=True)
+            ]
 
         keys_p = ("x", "y", "vx", "vy", "ax", "ay")
         keys_l = ("angle", "omega", "eps")
@@ -96,7 +99,7 @@ class KinematicsResult:
                     "mode": e.action,
                 }
                 for e in self.events
-            ],  # fmt: skip
+            ],
             "checks": self.checks,
         }
 

@@ -84,6 +84,8 @@ def circle_circle(
     """
     d = P2[0] - P1[0]
     D = np.abs(d)
+    # coincident centres: the dyad is undefined (a change point of a hinged square)
+    D = np.where(1e-10 * (r1 + r2) < D, D, np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
         a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
         disc = (r1 * r1 - a * a) / (r1 * r1)
