@@ -12,7 +12,7 @@ Examples
 >>> from mjstruct.catalog_files import example_path
 >>> r = kinematics(read_mechanism(example_path("slider-crank")), frames=4, speed=0.5)
 >>> [round(float(x), 3) for x in r.joints["B"]["x"]]
-[0.33, 0.257, 0.33, 0.441]
+[0.386, 0.259, 0.292, 0.435]
 >>> r.warnings
 []
 """
