@@ -488,7 +488,7 @@ def _solve_cluster(
 ) -> tuple[list[AssurGroup], int]:
     """Solve a rigid cluster in the frame of its best body: lowest class, welded first."""
     sub = _restrict(joints, set(comp))
-    links = tuple(x for b in comp for x in model.bodies[b].links)
+    links = tuple(sorted((x for b in comp for x in model.bodies[b].links), key=_link_key))
     pins = {b: sum(b in t for _, t in sub) for b in comp}
     candidates = sorted(comp, key=lambda b: (-len(model.bodies[b].links), -pins[b]))[:4]
     best: tuple[tuple[int, int, int], list[AssurGroup], int] | None = None
