@@ -1,0 +1,342 @@
+"""Atlas enumeration: all non-isomorphic admissible chains with F DOF and n links.
+
+Method (exact, no generate-and-test over labelled graphs):
+
+1. K = (n - 1 - F) / 2 loops.  Each multiset of branch vertices (links with >= 3
+   joints, and with ``mj`` multiple joints) with Σ (deg - 2) = 2(K - 1) is one
+   independent *task*; it fixes [LA] (n2 follows from n) and [MJA].
+2. Per task, the coloured contracted multigraphs with those degrees
+   (:mod:`mjstruct.synthesis.contracted`); chains on different contracted graphs are
+   never isomorphic.
+3. Per contracted graph, every distribution of the n2 binary links over its edges;
+   the admissibility rule is tested for all distributions at once with numpy on the
+   contracted graph: a minimal rigid set of links consists of branch vertices W and
+   whole edge paths, and its mobility is
+   ``3|W_L| + 2|W_J| - 3 + Σ_edges in W (b_e - 2)`` (b_e binary links on the edge),
+   so only the 2^|W| vertex sets need checking, not the 2^n link sets.
+4. Admissible chains are deduplicated by their nauty certificate; the canonical code
+   is the one :func:`mjstruct.structure.isomorphism.canonical_code` gives at the
+   ``"chain"`` level.
+
+Chains are sorted by (V, [MJA], [LA], canonical code), so the simple-joint atlas is a
+prefix of the one with multiple joints and the order does not depend on the number of
+workers.
+
+Examples
+--------
+>>> [atlas(1, n).count for n in (4, 6, 8)]
+[1, 2, 16]
+>>> [atlas(2, n).count for n in (5, 7)]
+[1, 3]
+>>> atlas(1, 6).chains[0].LA
+(4, 2)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pynauty
+
+from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Mechanism
+from mjstruct.synthesis.contracted import (
+    ContractedGraph,
+    Vertex,
+    contracted_graphs,
+    degree_sequences,
+)
+
+
+@dataclass(frozen=True)
+class Chain:
+    """One chain of an atlas: links 0..n-1 in nauty's canonical order.
+
+    ``joints`` lists, per joint, the links it joins (sorted; joints sorted too), so a
+    script can rebuild the chain; ``LA`` = (n2, n3, ...), ``MJA`` = (ν2, ν3, ...).
+    """
+
+    canonical: str
+    n: int
+    joints: tuple[tuple[int, ...], ...]
+    LA: tuple[int, ...]
+    MJA: tuple[int, ...]
+    V: int
+    K: int
+    F: int
+    planar: bool
+    fractionated: bool
+
+    @property
+    def cell(self) -> tuple[int, int]:
+        """The synthesis cell (K, V)."""
+        return (self.K, self.V)
+
+    def sort_key(self) -> tuple:
+        return (self.V, self.MJA, self.LA, self.canonical)
+
+    def mechanism(self, name: str = "") -> Mechanism:
+        """The chain as a :class:`Mechanism` (links "0".."n-1", joints "J0", "J1", ...)."""
+        return Mechanism.build(
+            [(f"J{k}", [str(x) for x in links]) for k, links in enumerate(self.joints)], name=name
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "canonical": self.canonical,
+            "n": self.n,
+            "F": self.F,
+            "K": self.K,
+            "V": self.V,
+            "LA": list(self.LA),
+            "MJA": list(self.MJA),
+            "planar": self.planar,
+            "fractionated": self.fractionated,
+            "joints": [list(j) for j in self.joints],
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> Chain:
+        return cls(
+            canonical=d["canonical"],
+            n=d["n"],
+            joints=tuple(tuple(j) for j in d["joints"]),
+            LA=tuple(d["LA"]),
+            MJA=tuple(d["MJA"]),
+            V=d["V"],
+            K=d["K"],
+            F=d["F"],
+            planar=d["planar"],
+            fractionated=d["fractionated"],
+        )
+
+
+@dataclass
+class Atlas:
+    """The result of :func:`atlas`: sorted chains and how they were asked for."""
+
+    F: int
+    n: int
+    mj: bool
+    fractionated: bool
+    chains: list[Chain] = field(default_factory=list)
+
+    @property
+    def count(self) -> int:
+        return len(self.chains)
+
+
+# -- canonical form of a chain ----------------------------------------------------
+
+
+def chain_code(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, bytes, pynauty.Graph]:
+    """Canonical code (as ``canonical_code(m, "chain")``), certificate and nauty graph."""
+    p = len(joints)
+    g = pynauty.Graph(
+        n + p,
+        adjacency_dict={n + k: list(js) for k, js in enumerate(joints)},
+        vertex_coloring=[set(range(n)), set(range(n, n + p))],
+    )
+    cert = pynauty.certificate(g)
+    sizes = f"{n}.{p}"
+    digest = hashlib.sha256(sizes.encode() + b"|" + cert).hexdigest()[:32]
+    return f"c{n}.{p}-{digest}", cert, g
+
+
+def _canonical_joints(n: int, g: pynauty.Graph) -> tuple[tuple[int, ...], ...]:
+    lab = pynauty.canon_label(g)  # lab[i] = original vertex at canonical position i
+    where = {v: i for i, v in enumerate(lab)}
+    joints = []
+    for node in lab[n:]:
+        joints.append(tuple(sorted(where[x] for x in g.adjacency_dict[node])))
+    return tuple(sorted(joints))
+
+
+def _assortments(n: int, joints: Sequence[Sequence[int]]) -> tuple[tuple[int, ...], ...]:
+    deg = [0] * n
+    for js in joints:
+        for x in js:
+            deg[x] += 1
+    la = [0] * (max(deg) - 1)
+    for d in deg:
+        la[d - 2] += 1
+    mults = [len(js) - 1 for js in joints if len(js) > 2]
+    mja = [0] * (max(mults, default=1) - 1)
+    for j in mults:
+        mja[j - 2] += 1
+    return tuple(la), tuple(mja)
+
+
+# -- expansion of a contracted graph ------------------------------------------------
+
+
+def _edge_minimum(cg: ContractedGraph, u: int, v: int) -> int:
+    cu, cv = cg.colours[u], cg.colours[v]
+    if u == v:
+        return 1 if cu == "L" else 2  # fewer: a link twice on one joint
+    return 1 if cu == cv == "J" else 0
+
+
+def _compositions(total: int, minima: list[int]) -> np.ndarray:
+    """All integer vectors b >= minima with Σ b = total, one per row."""
+    e = len(minima)
+    free = total - sum(minima)
+    if free < 0:
+        return np.zeros((0, e), dtype=np.int64)
+    cuts = np.array(list(itertools.combinations(range(free + e - 1), e - 1)), dtype=np.int64)
+    cuts = cuts.reshape(-1, e - 1)
+    bounds = np.hstack([np.full((len(cuts), 1), -1), cuts, np.full((len(cuts), 1), free + e - 1)])
+    return np.diff(bounds, axis=1) - 1 + np.asarray(minima, dtype=np.int64)
+
+
+def admissible_distributions(cg: ContractedGraph, binaries: np.ndarray) -> np.ndarray:
+    """Mask of the rows of ``binaries`` (binary links per edge) giving admissible chains.
+
+    Exact: the minimum sub-chain mobility over all link sets equals the minimum over
+    vertex sets W of ``3|W_L| + 2|W_J| - 3 + Σ_{e in W} min(b_e - 2, 0)``, with one
+    edge of b_e >= 3 added when W alone holds fewer than two links.
+    """
+    nv, ne = cg.order, len(cg.edges)
+    subsets = np.arange(1, 1 << nv)
+    bits = (subsets[:, None] >> np.arange(nv)[None, :]) & 1
+    is_link = np.array([c == "L" for c in cg.colours])
+    n_links = bits[:, is_link].sum(axis=1)
+    base = 3 * n_links + 2 * bits[:, ~is_link].sum(axis=1) - 3
+    inside = np.array(
+        [[(w >> u) & 1 and (w >> v) & 1 for u, v in cg.edges] for w in subsets], dtype=np.int64
+    ).reshape(len(subsets), ne)
+    b = binaries
+    mobility = base[None, :] + np.minimum(b - 2, 0) @ inside.T
+    size = n_links[None, :] + np.where(b <= 2, b, 0) @ inside.T
+    short = np.nonzero(n_links <= 1)[0]
+    big = 1 << 20
+    cost = np.where(b >= 3, b - 2, big)
+    for w in short:
+        cols = np.nonzero(inside[w])[0]
+        extra = cost[:, cols].min(axis=1) if len(cols) else np.full(len(b), big)
+        fix = size[:, w] < 2
+        mobility[fix, w] += extra[fix]
+    ok = (mobility >= 1).all(axis=1)
+    # a link may sit on a multiple joint only once: at most one direct L–J edge per pair
+    seen: dict[tuple[int, int], list[int]] = {}
+    for k, (u, v) in enumerate(cg.edges):
+        if u != v and cg.colours[u] != cg.colours[v]:
+            seen.setdefault((u, v), []).append(k)
+    for ks in seen.values():
+        if len(ks) > 1:
+            ok &= (b[:, ks] == 0).sum(axis=1) <= 1
+    return np.asarray(ok)
+
+
+def expand(cg: ContractedGraph, b: Sequence[int]) -> tuple[int, list[list[int]]]:
+    """The chain of a contracted graph with ``b[e]`` binary links on edge e: (n, joints)."""
+    link_of: dict[int, int] = {}
+    for v, c in enumerate(cg.colours):
+        if c == "L":
+            link_of[v] = len(link_of)
+    n = len(link_of)
+    multiple: dict[int, list[int]] = {v: [] for v, c in enumerate(cg.colours) if c == "J"}
+    simple: list[list[int]] = []
+    for (u, v), count in zip(cg.edges, b, strict=True):
+        path: list[tuple[str, int]] = [("J", u) if u in multiple else ("L", link_of[u])]
+        for _ in range(count):
+            path.append(("L", n))
+            n += 1
+        path.append(("J", v) if v in multiple else ("L", link_of[v]))
+        for (ka, a), (kc, z) in itertools.pairwise(path):
+            if ka == "L" and kc == "L":
+                simple.append([a, z])
+            elif ka == "J":
+                multiple[a].append(z)
+            else:
+                multiple[z].append(a)
+    return n, simple + [multiple[v] for v in sorted(multiple)]
+
+
+def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]:
+    """Every admissible chain on the contracted graphs of one branch-vertex multiset."""
+    sequence, n, F, fractionated = task
+    out: list[Chain] = []
+    n_branch_links = sum(1 for c, _ in sequence if c == "L")
+    for cg in contracted_graphs(sequence, fractionated):
+        minima = [_edge_minimum(cg, u, v) for u, v in cg.edges]
+        dist = _compositions(n - n_branch_links, minima)
+        if not len(dist):
+            continue
+        dist = dist[admissible_distributions(cg, dist)]
+        planar, frac = cg.is_planar(), cg.is_fractionated()
+        seen: set[bytes] = set()
+        for row in dist.tolist():
+            nn, joints = expand(cg, row)
+            code, cert, g = chain_code(nn, joints)
+            if cert in seen:
+                continue
+            seen.add(cert)
+            canon = _canonical_joints(nn, g)
+            la, mja = _assortments(nn, canon)
+            V = sum((k + 1) * nu for k, nu in enumerate(mja))
+            K = sum(len(j) - 1 for j in canon) - nn + 1
+            out.append(Chain(code, nn, canon, la, mja, V, K, F, planar, frac))
+    return out
+
+
+def _cycle(n: int, F: int) -> Chain:
+    joints = [[i, (i + 1) % n] for i in range(n)]
+    code, _, g = chain_code(n, joints)
+    canon = _canonical_joints(n, g)
+    return Chain(code, n, canon, (n,), (), 0, 1, F, True, False)
+
+
+def atlas_tasks(
+    F: int, n: int, mj: bool = False, fractionated: bool = False
+) -> list[tuple[tuple[Vertex, ...], int, int, bool]]:
+    """The independent tasks of an atlas (one per branch-vertex multiset)."""
+    K2 = n - 1 - F
+    if K2 % 2 or K2 < 4:
+        return []
+    K = K2 // 2
+    return [(seq, n, F, fractionated) for seq in degree_sequences(K, mj)]
+
+
+def atlas(
+    F: int,
+    n: int,
+    mj: bool = False,
+    fractionated: bool = False,
+    workers: int = 1,
+    progress: Callable[[int, int], None] | None = None,
+) -> Atlas:
+    """All non-isomorphic admissible chains with ``F`` DOF and ``n`` links.
+
+    Parameters
+    ----------
+    F, n : int
+        Degrees of freedom (planar, one-freedom pairs) and number of links.
+    mj : bool
+        Also chains with multiple joints (simple-joint chains are always included).
+    fractionated : bool
+        Also chains whose link–joint graph has a cut vertex.
+    workers : int
+        Processes to use (the result does not depend on it).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each task.
+    """
+    if n < 1:
+        raise MechanismError(f"--links: need at least one link, got {n}")
+    if workers < 1:
+        raise MechanismError(f"--workers: need at least 1, got {workers}")
+    result = Atlas(F, n, mj, fractionated)
+    if n - 1 - F == 2 and n >= 4:  # K = 1: the n-gon
+        result.chains.append(_cycle(n, F))
+    tasks = atlas_tasks(F, n, mj, fractionated)
+    from mjstruct.synthesis.parallel import run_tasks
+
+    for chains in run_tasks(_task_chains, tasks, workers=workers, progress=progress):
+        result.chains.extend(chains)
+    result.chains.sort(key=Chain.sort_key)
+    return result

@@ -1,0 +1,188 @@
+"""Contracted graphs: the skeleton of a chain once its degree-2 nodes are suppressed.
+
+Owns the enumeration of the coloured multigraphs that the atlas expands into chains.
+Suppressing every degree-2 node (binary link or simple joint) of a chain's bipartite
+link–joint graph leaves a multigraph whose vertices are the links with >= 3 joints
+(colour ``"L"``) and the multiple joints (colour ``"J"``), and whose edges are the
+paths of binary links between them.  It has the chain's cycle rank K, minimum degree
+3, and ``Σ (deg - 2) = 2(K - 1)``; it is an isomorphism invariant of the chain, so
+chains built on non-isomorphic contracted graphs are never isomorphic.
+
+A vertex-degree multiset is one enumeration *task*: it fixes [LA] (up to n2) and
+[MJA].  Multigraphs with given degrees are built vertex by vertex; partial graphs are
+deduplicated by their nauty certificate after each vertex is completed (the set of
+completions of a partial graph does not depend on the order in which vertices are
+completed), which keeps the search small.
+
+Examples
+--------
+>>> sequences = degree_sequences(2, mj=False)
+>>> sequences
+[(('L', 4),), (('L', 3), ('L', 3))]
+>>> [len(contracted_graphs(s, fractionated=False)) for s in sequences]
+[0, 1]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import networkx as nx
+import pynauty
+
+Vertex = tuple[str, int]  # (colour "L" or "J", degree)
+
+
+@dataclass(frozen=True)
+class ContractedGraph:
+    """A coloured multigraph: ``colours[v]`` in {"L", "J"}, ``edges`` as (u, v), u <= v.
+
+    A loop is an edge (u, u).  Parallel edges repeat.
+    """
+
+    colours: tuple[str, ...]
+    edges: tuple[tuple[int, int], ...]
+
+    @property
+    def order(self) -> int:
+        return len(self.colours)
+
+    def degrees(self) -> list[int]:
+        deg = [0] * self.order
+        for u, v in self.edges:
+            deg[u] += 1
+            deg[v] += 1
+        return deg
+
+    def has_loops(self) -> bool:
+        return any(u == v for u, v in self.edges)
+
+    def is_fractionated(self) -> bool:
+        """Whether the chains built on this graph have a cut vertex (link or joint)."""
+        if self.has_loops():
+            return True
+        g = nx.Graph(self.edges)
+        g.add_nodes_from(range(self.order))
+        if self.order <= 2:
+            return not nx.is_connected(g)
+        return not nx.is_biconnected(g)
+
+    def is_planar(self) -> bool:
+        """Planarity of the chains built on it (subdividing edges keeps planarity)."""
+        g = nx.Graph((u, v) for u, v in self.edges if u != v)
+        return bool(nx.check_planarity(g)[0])
+
+
+def degree_sequences(K: int, mj: bool) -> list[tuple[Vertex, ...]]:
+    """All multisets of branch vertices (colour, degree >= 3) with Σ (deg - 2) = 2(K - 1).
+
+    Without ``mj`` only links ("L"); with it also multiple joints ("J").  Sorted.
+    """
+    total = 2 * (K - 1)
+    kinds = ("L", "J") if mj else ("L",)
+    out: list[tuple[Vertex, ...]] = []
+
+    def rec(left: int, smallest: tuple[int, str], acc: list[Vertex]) -> None:
+        if left == 0:
+            if acc:
+                out.append(tuple(sorted(acc, key=lambda v: (-v[1], v[0]))))
+            return
+        for excess in range(smallest[0], left + 1):
+            for colour in kinds:
+                if (excess, colour) < smallest:
+                    continue
+                acc.append((colour, excess + 2))
+                rec(left - excess, (excess, colour), acc)
+                acc.pop()
+
+    if total > 0:
+        rec(total, (1, ""), [])
+    return sorted(set(out), key=lambda s: (len(s), [(-d, c) for c, d in s]))
+
+
+def _certificate(colours: list[str], done: list[bool], residual: list[int], edges: list) -> bytes:
+    """Nauty certificate of a (partial) multigraph; edges become coloured nodes."""
+    nv = len(colours)
+    adjacency: dict[int, list[int]] = {}
+    classes: dict[tuple, set[int]] = {}
+    for v in range(nv):
+        key = (0, colours[v], -1 if done[v] else residual[v])
+        classes.setdefault(key, set()).add(v)
+    for k, (u, v) in enumerate(edges):
+        node = nv + k
+        adjacency[node] = [u] if u == v else [u, v]
+        classes.setdefault((1, "loop" if u == v else "edge", 0), set()).add(node)
+    g = pynauty.Graph(
+        nv + len(edges),
+        adjacency_dict=adjacency,
+        vertex_coloring=[classes[k] for k in sorted(classes)],
+    )
+    tag = repr(sorted((k, len(c)) for k, c in classes.items())).encode()
+    return tag + b"|" + pynauty.certificate(g)
+
+
+def _complete_vertex(
+    i: int, residual: list[int], loops_ok: bool, colours: list[str]
+) -> Iterator[list[tuple[int, int]]]:
+    """All ways to spend vertex i's residual degree on loops and edges to later vertices."""
+    nv = len(residual)
+    r = residual[i]
+    later = [j for j in range(i + 1, nv) if residual[j] > 0]
+
+    def spread(k: int, left: int, acc: list[tuple[int, int]]) -> Iterator[list]:
+        if left == 0:
+            yield list(acc)
+            return
+        if k == len(later):
+            return
+        j = later[k]
+        for mult in range(min(left, residual[j]), -1, -1):
+            acc.extend([(i, j)] * mult)
+            yield from spread(k + 1, left - mult, acc)
+            del acc[len(acc) - mult :]
+
+    for nloops in range(r // 2 if loops_ok else 0, -1, -1):
+        for edges in spread(0, r - 2 * nloops, []):
+            yield [(i, i)] * nloops + edges
+
+
+def contracted_graphs(sequence: tuple[Vertex, ...], fractionated: bool) -> list[ContractedGraph]:
+    """All connected multigraphs, up to isomorphism, with the given coloured degrees.
+
+    Without ``fractionated`` only those whose chains have no cut vertex (no loops,
+    2-connected).  Deterministic order (by nauty certificate).
+    """
+    colours = [c for c, _ in sequence]
+    nv = len(colours)
+    states: dict[bytes, tuple[list[int], list[tuple[int, int]]]] = {
+        b"": ([d for _, d in sequence], [])
+    }
+    for i in range(nv):
+        nxt: dict[bytes, tuple[list[int], list[tuple[int, int]]]] = {}
+        done = [k <= i for k in range(nv)]
+        for residual, edges in states.values():
+            for new in _complete_vertex(i, residual, fractionated, colours):
+                res = list(residual)
+                res[i] = 0
+                for u, v in new:
+                    if u != v:
+                        res[v] -= 1
+                all_edges = edges + new
+                cert = _certificate(colours, done, res, all_edges)
+                if cert not in nxt:
+                    nxt[cert] = (res, all_edges)
+        states = nxt
+    out = []
+    for cert in sorted(states):
+        _, edges = states[cert]
+        cg = ContractedGraph(tuple(colours), tuple(sorted(edges)))
+        g = nx.MultiGraph()
+        g.add_nodes_from(range(nv))
+        g.add_edges_from(cg.edges)
+        if not nx.is_connected(g):
+            continue
+        if not fractionated and cg.is_fractionated():
+            continue
+        out.append(cg)
+    return out
