@@ -18,6 +18,7 @@ from mjstruct.errors import MechanismError, NumericalError
 COMMANDS: dict[str, str] = {
     "analyze": "structural report of a mechanism file or of a structural code",
     "iso": "exact isomorphism of two mechanism files",
+    "kinematics": "positions, velocities, accelerations over one cycle (triangle rule)",
     "assur": "Assur-group decomposition (MJs kept whole) and driver choices",
 }
 

@@ -208,8 +208,40 @@ def close(
     x = arc[np.array(stations)][good]
     guess = _hermite(x, T[good], D[good], arc)
     t, err, iters, ok = newton(plan, geom, m, q, guess, K, tol, maxiter)
+    if not ok.all() and ok.any():
+        _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter)
     t1, t2 = derivatives(plan, geom, m, q, t, rate, K)
     return Closure(t, t1, t2, err, iters, ok, tol)
+
+
+def _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter) -> None:
+    """Frames the vectorised pass missed: walk to each from a closed neighbour.
+
+    Sequential, but only over the failed frames (near singular stretches where the
+    interpolated guess is poor); substeps halve until Newton follows the branch.
+    """
+    F = q.shape[0]
+    for order in (range(1, F), range(F - 2, -1, -1)):
+        for i in order:
+            j = i - 1 if order.step == 1 else i + 1
+            if ok[i] or not ok[j]:
+                continue
+            for n in (1, 2, 4, 8, 16, 32):
+                cur = t[j].copy()
+                good = True
+                for s in range(1, n + 1):
+                    qs = q[j] + (q[i] - q[j]) * (s / n)
+                    Ks = _subset_modes(K, np.array([i]))
+                    tn, en, _, okn = newton(
+                        plan, geom, m, qs[None, :], cur[None, :], Ks, tol, maxiter
+                    )
+                    if not okn[0]:
+                        good = False
+                        break
+                    cur = tn[0]
+                if good:
+                    t[i], err[i], ok[i] = cur, en[0], True
+                    break
 
 
 def _direction(q: np.ndarray, i: int) -> np.ndarray:

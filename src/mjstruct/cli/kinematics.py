@@ -1,0 +1,57 @@
+"""``mjstruct kinematics FILE``: positions, velocities, accelerations over one cycle."""
+
+from __future__ import annotations
+
+import argparse
+
+from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.errors import MechanismError
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", help="mechanism file with geometry (.json or .toml)")
+    p.add_argument("--drivers", help="generalised coordinates J1,J2 (default: the file's)")
+    p.add_argument("--frames", type=int, default=360, help="frames over one cycle (default 360)")
+    p.add_argument(
+        "--speed", type=float, default=1.0, help="constant driver speed W (rad/s; default 1)"
+    )
+    p.add_argument(
+        "--stroke", type=float, default=1.0, help="sweep of a prismatic driver (default 1)"
+    )
+    p.add_argument("--tol", type=float, default=1e-12, help="closure tolerance (relative)")
+    p.add_argument("--csv", metavar="OUT", help="write the table (q, x y vx vy ax ay, ...) here")
+    p.add_argument("--json", action="store_true", help="print the contract's JSON object")
+
+
+def run(args: argparse.Namespace) -> int:
+    from mjstruct.io import read_mechanism
+    from mjstruct.kinematics.report import render, write_csv
+    from mjstruct.kinematics.solver import kinematics
+
+    if args.frames < 1:
+        raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
+    if not args.speed == args.speed or args.speed == 0:
+        raise MechanismError("--speed: must be a nonzero number")
+    if not 0 < args.tol < 1:
+        raise MechanismError(f"--tol: must be in (0, 1), got {args.tol}")
+    m = read_mechanism(args.file)
+    drivers = None
+    if args.drivers is not None:
+        drivers = [d.strip() for d in args.drivers.split(",") if d.strip()]
+        known = {j.id for j in m.joints}
+        for d in drivers:
+            if d not in known:
+                raise MechanismError(f"--drivers: {d!r} is not a joint of {args.file}")
+    r = kinematics(
+        m, drivers=drivers, frames=args.frames, speed=args.speed, stroke=args.stroke, tol=args.tol
+    )
+    if args.csv:
+        try:
+            write_csv(r, args.csv)
+        except OSError as exc:
+            raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None
+    if args.json:
+        emit_json(r.to_dict())
+    else:
+        emit_text(render(r))
+    return 0
