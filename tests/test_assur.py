@@ -294,3 +294,27 @@ def test_cli_bad_input_exits_2_with_one_line(capsys):
     assert err.count("\n") == 1 and "'X'" in err
     assert main(["assur", str(example_path("five-bar")), "--drivers", "O1"]) == 2
     assert "under-driven" in capsys.readouterr().err
+
+
+def test_zhivago_driven_at_c_is_the_seed003_mechanism():
+    """Why C (not O) gives the class-IV group: the same mechanism as seed 003."""
+    from mjstruct.structure.isomorphism import canonical_code
+
+    z, s = example("zhivago"), example("class-iv-seed003")
+    same = canonical_code(z.with_drivers(["C"]), level="mechanism")
+    assert same == canonical_code(s, level="mechanism")
+    assert canonical_code(z, level="mechanism") != canonical_code(s, level="mechanism")
+
+
+def test_cli_assur_imports_no_heavy_library():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; from mjstruct.cli.main import main; "
+        f"main(['assur', {str(example_path('radial-engine-5'))!r}, '--json']); "
+        "print([k for k in ('sympy', 'matplotlib', 'scipy') if k in sys.modules], "
+        "file=sys.stderr)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0 and done.stderr.strip() == "[]"
