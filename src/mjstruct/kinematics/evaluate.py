@@ -23,6 +23,7 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -82,7 +83,7 @@ def evaluate(
     t: np.ndarray | None = None,
     t1: np.ndarray | None = None,
     t2: np.ndarray | None = None,
-    K: dict[int, np.ndarray | int] | None = None,
+    K: Mapping[int, np.ndarray | int] | None = None,
     upto: int | None = None,
 ) -> Evaluation:
     """Run the plan on driver coordinates ``q`` (frames × drivers).

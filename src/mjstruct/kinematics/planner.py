@@ -361,7 +361,9 @@ def plan_kinematics(
     # an inner driver (not on the frame) suggests solving in its first link's frame
     for d in drv:
         refs += [link for link in m.joint(d).links if link not in refs]
-    trials = [(ref, groups, source) for ref in refs] if groups is not None else []
+    trials: list[tuple[str, list[set[str]] | None, str]] = []
+    if groups is not None:
+        trials += [(ref, groups, source) for ref in refs]
     trials += [(ref, None, "propagation") for ref in refs]
     best: _State | None = None
     for ref, grp, src in trials:
@@ -400,7 +402,7 @@ def _groups_from(
     dec = decomposition
     if dec is None:
         try:
-            from mjstruct.structure.assur import assur_groups  # type: ignore[import-not-found]
+            from mjstruct.structure.assur import assur_groups
         except ImportError:
             return None, "propagation", None
         try:
@@ -414,8 +416,8 @@ def _groups_from(
     moving = set(m.links) - {m.frame}
     if set().union(*sets) - set(m.links):
         return None, "propagation", None
-    refs = {getattr(g, "reference", m.frame) for g in groups} - {m.frame, None}
-    ref = next(iter(sorted(refs))) if len(refs) == 1 else None
+    refs = {str(getattr(g, "reference", m.frame)) for g in groups} - {str(m.frame)}
+    ref = next(iter(refs)) if len(refs) == 1 else None
     if not set().union(*sets) <= moving | {m.frame}:
         return None, "propagation", None
     return sets, "assur", ref

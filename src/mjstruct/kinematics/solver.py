@@ -302,7 +302,9 @@ def _checks(r: KinematicsResult, ev: Evaluation) -> None:
     ranks = sorted({int(x) for x in jc.rank[v]}) if v.any() else []
     dets = np.abs(jc.det)
     top = float(np.nanmax(dets[v])) if v.any() and np.isfinite(dets[v]).any() else float("nan")
-    flagged = np.flatnonzero(v & (dets < NEAR_SINGULAR * top)) if np.isfinite(top) else []
+    flagged = (
+        np.flatnonzero(v & (dets < NEAR_SINGULAR * top)) if np.isfinite(top) else np.zeros(0, int)
+    )
     dof = jc.coordinates - (max(ranks) if ranks else 0)
     r.checks["jacobian"] = {
         "equations": jc.equations,
