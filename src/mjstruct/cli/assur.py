@@ -65,6 +65,10 @@ def run(args: argparse.Namespace) -> int:
         for d in drivers:
             if d not in known:
                 raise MechanismError(f"--drivers: {d!r} is not a joint id")
+    if not args.all_choices and not (drivers or m.drivers):
+        raise MechanismError(
+            "drivers: the file names no drivers; give --drivers J1,J2 or --all-choices"
+        )
     out: dict = {}
     text = ""
     choices = None

@@ -90,6 +90,7 @@ class AssurGroup:
             "reference": self.reference,
             "bodies": [list(b) for b in self.bodies],
             "within": list(self.within),
+            "pairs": self.pairs,
         }
 
 
@@ -441,7 +442,7 @@ def _pinned_groups(
     game, rejected = _game(order, joints)
     game.pin(0)
     if rejected or any(game.pebbles[1:]):
-        raise MechanismError("internal: a sub-chain is not isostatic after the global check")
+        raise RuntimeError("a sub-chain is not isostatic although the whole is")
     placed = {pinned}
     reference = model.bodies[pinned].root
     for scc in _tarjan(game.out, skip=0):
