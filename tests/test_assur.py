@@ -318,3 +318,21 @@ def test_cli_assur_imports_no_heavy_library():
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0 and done.stderr.strip() == "[]"
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 5), st.integers(0, 10**6), st.data())
+def test_random_inner_drivers_give_valid_nested_decompositions(groups, seed, data):
+    m = random_mechanism(groups, seed=seed, mj=0.3)
+    driver = data.draw(st.sampled_from([j.id for j in m.joints]))
+    m = m.with_drivers([driver])
+    choices = driver_choices(m, any_joint=True, count=1)
+    assert len(choices) == len(m.joints)
+    choice = next(c for c in choices if c.drivers == (driver,))
+    if choice.status != "ok":
+        with pytest.raises(MechanismError):
+            assur_groups(m)
+        return
+    d = assur_groups(m)
+    assert d.mechanism_class == choice.mechanism_class
+    check_decomposition(m, d, minimal_up_to=4)
