@@ -336,3 +336,9 @@ def test_random_inner_drivers_give_valid_nested_decompositions(groups, seed, dat
     d = assur_groups(m)
     assert d.mechanism_class == choice.mechanism_class
     check_decomposition(m, d, minimal_up_to=4)
+
+
+def test_crank_alone_is_an_initial_mechanism_without_groups():
+    d = assur_groups(Mechanism.build([("O", [0, 1])], frame=0, drivers=["O"]))
+    assert d.groups == () and d.mechanism_class == 1 and d.initial == (("O", "0", "1"),)
+    assert "Mechanism class: I (1)" in d.render()
