@@ -11,6 +11,19 @@ from mjstruct.cli.main import COMMANDS
 ROOT = Path(__file__).resolve().parents[1]
 
 PUBLIC = [
+    "AssurGroup",
+    "Decomposition",
+    "DriverChoice",
+    "GenericMobility",
+    "assur_groups",
+    "driver_choices",
+    "generic_dof",
+    "generic_mobility",
+    "pebble_rank",
+    "plot_decomposition",
+    "random_mechanism",
+    "rigid_components",
+    "rigidity",
     "Assortment",
     "Joint",
     "Mechanism",
@@ -42,7 +55,7 @@ PUBLIC = [
     "to_networkx",
 ]
 
-CLI = ["analyze", "iso"]
+CLI = ["analyze", "assur", "iso", "kinematics"]
 
 
 def test_public_names_pinned():

@@ -42,6 +42,19 @@ _EXPORTS: dict[str, str] = {
     "structural_report": "mjstruct.report",
     "code_report": "mjstruct.report",
     "StructuralReport": "mjstruct.report",
+    "assur_groups": "mjstruct.structure.assur",
+    "driver_choices": "mjstruct.structure.assur",
+    "AssurGroup": "mjstruct.structure.assur",
+    "Decomposition": "mjstruct.structure.assur",
+    "DriverChoice": "mjstruct.structure.assur",
+    "random_mechanism": "mjstruct.structure.assur",
+    "generic_mobility": "mjstruct.structure.generic_mobility",
+    "GenericMobility": "mjstruct.structure.generic_mobility",
+    "pebble_rank": "mjstruct.structure.pebble",
+    "generic_dof": "mjstruct.structure.pebble",
+    "rigid_components": "mjstruct.structure.pebble",
+    "rigidity": "mjstruct.structure.pebble",
+    "plot_decomposition": "mjstruct.plot.assur",
 }
 
 __all__ = sorted(_EXPORTS)
