@@ -140,35 +140,18 @@ def track_branches(
         sine, _ = _sine(plan, geom, m, q, K, k, t)
         ok = np.isfinite(sine)
         i = 1
-        while i < F - 1:
-            gap = not ok[i]
-            if gap:
-                # a short run of undefined frames between feasible ones: singular frames
-                j = i
-                while j < F and not ok[j]:
-                    j += 1
-                if j >= F or not ok[i - 1]:
-                    i = j + 1
-                    continue
-                short = j - i <= 2
-                if not short:
-                    i = j + 1
-                    continue
-                cand, after = i, j
-                smin, qstar, kind = 0.0, float(q[i, 0]), "singular frame"
+        while True:
+            nxt = _next_candidate(sine, ok, i)
+            if nxt is None:
+                break
+            cand, after, singular = nxt
+            if singular:
+                smin, qstar, kind = 0.0, float(q[cand, 0]), "singular frame"
             else:
-                if not (ok[i - 1] and ok[i + 1]):
-                    i += 1
-                    continue
-                dip = sine[i] <= min(sine[i - 1], sine[i + 1]) and sine[i] < WATCH
-                if not dip:
-                    i += 1
-                    continue
-                cand, after = i, i + 1
                 if switchable:
-                    smin, qstar = _refine_min(plan, geom, m, q, K, k, i)
+                    smin, qstar = _refine_min(plan, geom, m, q, K, k, cand)
                 else:
-                    smin, qstar = float(sine[i]), float(q[i, 0])
+                    smin, qstar = float(sine[cand]), float(q[cand, 0])
                 kind = "change point" if smin < MEET else "near branch point"
             action = "kept"
             legal = kind != "near branch point" and switchable and cand >= 3 and after < F
@@ -180,17 +163,48 @@ def track_branches(
             events.append(BranchEvent(qstar, cand, k, s.joint, kind, smin, action))
             i = after + 1
         # limits of feasible intervals (dead positions)
-        for i in range(F - 1):
-            if ok[i] != ok[i + 1] and not _near_event(events, k, i):
-                a, b = (i, i + 1) if ok[i] else (i + 1, i)
-                qb = (
-                    _boundary(plan, geom, m, q[a], q[b], _modes_at(K, a), k)
-                    if switchable
-                    else float(q[a, 0])
-                )
-                events.append(BranchEvent(qb, a, k, s.joint, "dead point", 0.0, "kept"))
+        for i in np.flatnonzero(ok[:-1] != ok[1:]):
+            if _near_event(events, k, int(i)):
+                continue
+            a, b = (i, i + 1) if ok[i] else (i + 1, i)
+            qb = (
+                _boundary(plan, geom, m, q[a], q[b], _modes_at(K, a), k)
+                if switchable
+                else float(q[a, 0])
+            )
+            events.append(BranchEvent(qb, int(a), k, s.joint, "dead point", 0.0, "kept"))
     events.sort(key=lambda e: (e.frame, e.step))
     return K, events
+
+
+def _next_candidate(sine: np.ndarray, ok: np.ndarray, start: int) -> tuple[int, int, bool] | None:
+    """First frame >= start where a step's |sine| dips (or a short undefined run sits).
+
+    Returns (frame, first frame after it, singular); found with array operations.
+    """
+    F = sine.size
+    if F < 3 or start >= F - 1:
+        return None
+    s = np.where(ok, sine, np.inf)
+    inner = np.arange(1, F - 1)
+    dip = (
+        ok[1:-1] & ok[:-2] & ok[2:]
+        & (s[1:-1] <= np.minimum(s[:-2], s[2:]))
+        & (s[1:-1] < WATCH)
+    )  # fmt: skip
+    # runs of at most two undefined frames between defined ones
+    gap1 = ~ok[1:-1] & ok[:-2] & ok[2:]
+    gap2 = np.zeros(F - 2, bool)
+    if F >= 4:
+        gap2[:-1] = ~ok[1:-2] & ~ok[2:-1] & ok[:-3] & ok[3:]
+    hit = (dip | gap1 | gap2) & (inner >= start)
+    if not hit.any():
+        return None
+    j = int(np.argmax(hit))
+    i = int(inner[j])
+    if dip[j]:
+        return i, i + 1, False
+    return i, i + (2 if gap2[j] else 1), True
 
 
 def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:

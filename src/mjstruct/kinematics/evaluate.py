@@ -57,9 +57,12 @@ class Evaluation:
     residuals: list[Jet] = field(default_factory=list)
     diag: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     first: dict[str, str] = field(default_factory=dict)
+    solved: dict[str, Jet] = field(default_factory=dict)
 
     def centre(self, joint: str) -> Jet:
         """Jet of a joint centre (prismatic: the point carried by its second link)."""
+        if joint in self.solved:
+            return self.solved[joint]
         j = self.m.joint(joint)
         link = j.links[1] if j.kind == "P" else self.first[joint]
         return self.poses[link].point(self.geom.centres[joint])
@@ -117,6 +120,8 @@ def evaluate(
             first.setdefault(jid, link)
 
     def centre(jid: str) -> Jet:
+        if jid in ev.solved:
+            return ev.solved[jid]
         return poses[first[jid]].point(C[jid])
 
     steps = plan.steps if upto is None else plan.steps[:upto]
@@ -160,6 +165,7 @@ def evaluate(
             place(b, Pose(zX, X, rb, wb))
             place(c, Pose(zX, X, rc, wc))
             first[s.joint] = b
+            ev.solved[s.joint] = X
         elif s.kind == "RRP":
             b, c = s.links
             guide = s.inputs[1]
@@ -175,6 +181,7 @@ def evaluate(
             place(b, Pose(zX, X, rb, wb))
             place(c, Pose(zX, X, base.r, list(base.w)))
             first[s.joint] = b
+            ev.solved[s.joint] = X
         elif s.kind == "place":
             P, Q = centre(s.inputs[0]), centre(s.inputs[1])
             r, w = rotation_between(P, Q, C[s.inputs[0]], C[s.inputs[1]])
@@ -215,6 +222,7 @@ def _mode_rrp(z1: complex, zX: complex, axis: complex) -> int:
 
 def _to_frame(ev: Evaluation, frame: str) -> None:
     """Carry every pose from the reference link's coordinates to the frame's."""
+    ev.solved.clear()  # solved centres were in the reference link's coordinates
     f = ev.poses[frame]
     c = f.r.conjugate()
     cw: Jet = [c]

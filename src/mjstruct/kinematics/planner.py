@@ -370,6 +370,8 @@ def plan_kinematics(
         st = _run(m, geom, drv, ref, grp)
         if _complete(st) and (best is None or _cost(st) < _cost(best)):
             best, source = st, src
+            if st.unknowns == 0:
+                break  # triangles only: nothing better to find
     if best is None:
         st = _run(m, geom, drv, m.frame, None)
         missing = sorted(set(m.links) - st.placed)

@@ -144,6 +144,7 @@ def kinematics(
     decomposition: object | None = None,
     tol: float = 1e-12,
     checks: bool = True,
+    plan: Plan | None = None,
 ) -> KinematicsResult:
     """Positions, analogs, velocities and accelerations of ``m`` over a driver sweep.
 
@@ -156,10 +157,17 @@ def kinematics(
     q : explicit driver values instead (frames, or frames × drivers), taken as a path.
     stroke : the sweep of a prismatic driver.
     tol : closure tolerance (relative to the mechanism's size) for iterated groups.
+    checks : run the checks (link lengths, analogs vs differences, Jacobian).
+    plan : a plan from :func:`~mjstruct.kinematics.planner.plan_kinematics` to reuse
+        (its drivers are used).
     """
-    drv = tuple(m.drivers if drivers is None else drivers)
-    geom = read_geometry(m, drv)
-    plan = plan_kinematics(m, drv, decomposition=decomposition, geometry=geom)
+    if plan is not None:
+        drv = plan.drivers
+        geom = read_geometry(m, drv)
+    else:
+        drv = tuple(m.drivers if drivers is None else drivers)
+        geom = read_geometry(m, drv)
+        plan = plan_kinematics(m, drv, decomposition=decomposition, geometry=geom)
     if q is None:
         qa = sweep(geom, plan, m, frames, speed, stroke)
     else:
@@ -221,11 +229,13 @@ def _collect(m: Mechanism, plan: Plan, geom: Geometry, q, speed: float, ev: Eval
     links: dict[str, dict[str, np.ndarray]] = {}
     for link in m.links:
         p = ev.poses[link]
-        theta = np.angle(p.r)
-        ok = np.isfinite(theta)
-        if ok.any():
-            theta[ok] = np.unwrap(theta[ok])
-            # start from the principal value at the first frame (reference angle added)
+        if link == m.frame:
+            theta = np.zeros(q.shape[0])
+        else:
+            theta = np.angle(p.r)
+            ok = np.isfinite(theta)
+            if ok.any():
+                theta[ok] = np.unwrap(theta[ok])
         ang = theta + geom.char_angle[link]
         links[link] = {
             "angle": ang,
@@ -240,22 +250,14 @@ def _collect(m: Mechanism, plan: Plan, geom: Geometry, q, speed: float, ev: Eval
 
 def _infeasible(r: KinematicsResult) -> list[str]:
     """Runs of frames that do not assemble, with their q range."""
-    out = []
-    bad = ~r.valid
-    i, F = 0, bad.size
-    while i < F:
-        if bad[i]:
-            j = i
-            while j + 1 < F and bad[j + 1]:
-                j += 1
-            out.append(
-                f"no assembly for q in [{r.q[i, 0]:.9g}, {r.q[j, 0]:.9g}] "
-                f"(frames {i}..{j}); values are null"
-            )
-            i = j + 1
-        else:
-            i += 1
-    return out
+    bad = np.concatenate([[False], ~r.valid, [False]])
+    starts = np.flatnonzero(bad[1:] & ~bad[:-1])
+    ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
+    return [
+        f"no assembly for q in [{r.q[i, 0]:.9g}, {r.q[j, 0]:.9g}] (frames {i}..{j}); "
+        "values are null"
+        for i, j in zip(starts, ends, strict=True)
+    ]
 
 
 def _checks(r: KinematicsResult, ev: Evaluation) -> None:
