@@ -253,11 +253,19 @@ def _infeasible(r: KinematicsResult) -> list[str]:
     bad = np.concatenate([[False], ~r.valid, [False]])
     starts = np.flatnonzero(bad[1:] & ~bad[:-1])
     ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
-    return [
+    out = [
         f"no assembly for q in [{r.q[i, 0]:.9g}, {r.q[j, 0]:.9g}] (frames {i}..{j}); "
         "values are null"
         for i, j in zip(starts, ends, strict=True)
     ]
+    after = [int(j) + 1 for j in ends if j + 1 < r.valid.size]
+    if after:
+        # the motion cannot physically cross an infeasible interval: say so
+        out.append(
+            f"frames from {after[0]} on assemble again after an infeasible interval: found "
+            "by continuation across the gap (same assembly modes), not a physical motion"
+        )
+    return out
 
 
 def _checks(r: KinematicsResult, ev: Evaluation) -> None:
