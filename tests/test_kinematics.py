@@ -101,7 +101,7 @@ def test_seed001_every_degree_matches_closed_form():
 
 def test_plan_of_slider_crank_is_two_right_triangles():
     r = kinematics(read_mechanism(example_path("slider-crank")), frames=8)
-    assert r.plan.complexity() == {"general": 0, "right": 2, "unknowns": 0}
+    assert r.plan.complexity() == {"general": 0, "right": 2, "checks": 0, "unknowns": 0}
     assert [s.kind for s in r.plan.steps] == ["reference", "driver-R", "RRP"]
 
 

@@ -32,7 +32,7 @@ def test_contract_keys_and_speed(capsys):
     assert set(d["links"]["2"]) == {"angle", "omega", "eps"}
     assert set(d["points"]) == {"S2"}
     assert d["warnings"] == []
-    assert d["plan"]["complexity"] == {"general": 0, "right": 2, "unknowns": 0}
+    assert d["plan"]["complexity"] == {"general": 0, "right": 2, "checks": 0, "unknowns": 0}
     assert d["links"]["1"]["omega"] == pytest.approx([0.5] * 8)
     # negative speed: the coordinate decreases, the crank turns clockwise
     d2 = _json(capsys, ["kinematics", f, "--frames", "8", "--speed", "-0.5", "--json"])
@@ -116,7 +116,8 @@ def test_zhivago_inner_driver_needs_triangles_only():
     assert r.plan.reference == "1"
     # seed 000's count: 7 triangles, of which two (OAB, OBG) only re-check OG;
     # the plan needs ADE, ABD, then ODE, ODG and OGH
-    assert r.plan.complexity()["general"] == 5
+    c = r.plan.complexity()
+    assert c["general"] == 5 and c["checks"] == 2 and c["general"] + c["checks"] == 7
     assert r.valid.all() and r.checks["link_lengths"]["max_error"] < 1e-12
     # the frame stays put: O and C fixed, frame link angle constant
     for j, (x, y) in (("O", (0, 0)), ("C", (1.6, 0))):

@@ -24,7 +24,7 @@ Examples
 >>> [s.kind for s in p.steps]
 ['reference', 'driver-R', 'RRP']
 >>> p.complexity()
-{'general': 0, 'right': 2, 'unknowns': 0}
+{'general': 0, 'right': 2, 'checks': 0, 'unknowns': 0}
 """
 
 from __future__ import annotations
@@ -63,7 +63,8 @@ class Step:
     disagreement it measures), ``joint`` the joint it solves or drives, ``inputs`` the
     known joints it starts from, ``base`` the link a driver or guide belongs to,
     ``index`` the driver or unknown number, ``diagonal`` the triangles the seed's rule
-    spends to find a dyad's base side across the cluster.
+    spends to find a dyad's base side across the cluster, ``checks`` the triangles that
+    find the same base along the other shortest paths (the seed computes them as a check).
     """
 
     kind: str
@@ -73,6 +74,7 @@ class Step:
     base: str = ""
     index: int = -1
     diagonal: int = 0
+    checks: int = 0
 
     def describe(self) -> str:
         return STEP_KINDS[self.kind].format(n=self.index + 1, **self.__dict__)
@@ -108,10 +110,13 @@ class Plan:
         A dyad RRR is one general triangle, a dyad RRP one right triangle; finding the
         dyad's base side across already placed links costs one triangle per
         intermediate joint (seed 000: the crank's right triangle of the slider-crank).
+        ``checks``: triangles that find a base again along another shortest path (seed
+        000's Zhivago count, 7, is ``general + checks``).
         """
         general = sum(1 + s.diagonal for s in self.steps if s.kind == "RRR")
         right = sum(1 + s.diagonal for s in self.steps if s.kind == "RRP")
-        return {"general": general, "right": right, "unknowns": self.unknowns}
+        checks = sum(s.checks for s in self.steps)
+        return {"general": general, "right": right, "checks": checks, "unknowns": self.unknowns}
 
     def describe(self) -> list[str]:
         """The plan in words, one line per step."""
@@ -166,16 +171,21 @@ class _State:
 
     def diagonal(self, a: str, b: str) -> int:
         """Intermediate joints on the shortest path between known centres a and b."""
+        return self.paths(a, b)[0]
+
+    def paths(self, a: str, b: str) -> tuple[int, int]:
+        """(triangles along one shortest path a–b, triangles along the other ones)."""
         g = nx.Graph()
         for j in self.known:
             for link in self.m.joint(j).links:
                 if link in self.placed:
                     g.add_edge(("j", j), ("l", link))
         try:
-            path = nx.shortest_path(g, ("j", a), ("j", b))
+            paths = list(nx.all_shortest_paths(g, ("j", a), ("j", b)))
         except (nx.NetworkXNoPath, nx.NodeNotFound):
-            return 0
-        return max(0, (len(path) - 1) // 2 - 1)
+            return 0, 0
+        each = max(0, (len(paths[0]) - 1) // 2 - 1)
+        return each, each * (len(paths) - 1)
 
 
 def _propagate(st: _State, drivers: tuple[str, ...], allowed: set[str] | None = None) -> None:
@@ -228,7 +238,8 @@ def _propagate(st: _State, drivers: tuple[str, ...], allowed: set[str] | None = 
                         continue
                     step = Step(
                         "RRR", (b, c), joint=j.id, inputs=(kb[0], kc[0]),
-                        diagonal=st.diagonal(kb[0], kc[0]),
+                        diagonal=st.paths(kb[0], kc[0])[0],
+                        checks=st.paths(kb[0], kc[0])[1],
                     )  # fmt: skip
                     st.steps.append(step)
                     st.place(b, step, (kb[0], j.id))

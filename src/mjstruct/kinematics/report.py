@@ -37,8 +37,8 @@ def render(r: KinematicsResult) -> str:
     out += [f"  {line}" for line in r.plan.describe()]
     c = r.plan.complexity()
     out.append(
-        f"complexity: {c['general']} general + {c['right']} right triangle(s), "
-        f"{c['unknowns']} closure unknown(s)"
+        f"complexity: {c['general']} general + {c['right']} right triangle(s) "
+        f"(+{c['checks']} check triangle(s)), {c['unknowns']} closure unknown(s)"
     )
     if r.closure is not None:
         cl = r.closure
