@@ -234,6 +234,9 @@ def test_near_dead_centre_acceleration_follows_inverse_determinant(eps):
     near = [e for e in r.events if e.joint == "B"]
     assert near and abs(near[0].q - math.pi / 2) < 1e-3
     assert near[0].action == "kept"
+    if eps <= 1e-7:  # |det| / max |det| = sqrt(2 eps) < 1e-3: flagged
+        assert 60 in r.checks["jacobian"]["near_singular_frames"]
+        assert any(w.startswith("near-singular Jacobian") for w in r.warnings)
     assert np.abs(r.joints["B"]["x"] - slider_closed_form(L1, L2, q)[0]).max() < 1e-12
 
 
@@ -337,3 +340,41 @@ def test_wrong_driver_count_is_bad_input():
         kinematics(m, drivers=["O1", "O2"])
     with pytest.raises(MechanismError, match="frames"):
         kinematics(m, frames=0)
+
+
+# -- other drivers ------------------------------------------------------------------------
+
+
+def test_prismatic_driver_moves_the_crank_through_a_dyad():
+    L1, L2 = 0.1, 0.35
+    m = slider_crank(L1, L2, math.radians(62))
+    xb0 = m.joint("B").at[0]
+    q = np.linspace(0.0, -0.1, 51)  # the slide from the reference, along the guide
+    r = kinematics(m, drivers=["O4"], q=q)
+    assert [s.kind for s in r.plan.steps] == ["reference", "driver-P", "RRR"]
+    B, A = r.joints["B"], r.joints["A"]
+    assert np.abs(B["x"] - (xb0 + q)).max() < 1e-15
+    assert np.abs(B["vx"] - 1.0).max() < 1e-15 and np.abs(B["ax"]).max() < 1e-15
+    # the crank angle is the inverse of the closed form x(θ) on this stretch
+    th = r.links["1"]["angle"]
+    x, v, _ = slider_closed_form(L1, L2, th)
+    assert np.abs(x - B["x"]).max() < 1e-13
+    assert np.abs(r.links["1"]["sigma"] * v - 1.0).max() < 1e-9  # dθ/dx = 1 / (dx/dθ)
+    assert np.abs(np.hypot(A["x"], A["y"]) - L1).max() < 1e-15
+
+
+def test_two_drivers_five_bar():
+    m = read_mechanism(example_path("kin-five-bar"))
+    r = kinematics(m, frames=72)
+    assert r.q.shape == (72, 2)
+    assert r.checks["jacobian"]["dof"] == 2 and r.checks["jacobian"]["rank"] == [10]
+    assert r.checks["link_lengths"]["max_error"] < 1e-12
+    # both cranks turn at the speed: ω1 = ω4 = 1, and σ is the derivative along (1, 1)
+    assert np.abs(r.links["1"]["omega"] - 1).max() < 1e-15
+    assert np.abs(r.links["4"]["omega"] - 1).max() < 1e-15
+    h = 1e-6
+    q0 = r.q[5]
+    rr = kinematics(m, q=np.array([q0 - h, q0 + h]))
+    fd = (rr.joints["B"]["x"][1] - rr.joints["B"]["x"][0]) / (2 * h)
+    assert fd == pytest.approx(r.joints["B"]["vx"][5], abs=1e-8)
+    assert len(r.to_dict()["q"][0]) == 2
