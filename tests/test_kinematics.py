@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from mjstruct.catalog_files import example_path
 from mjstruct.errors import MechanismError
-from mjstruct.io import mechanism_from_dict, read_mechanism
+from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.solver import kinematics
 
 # -- builders ---------------------------------------------------------------------
@@ -378,3 +378,11 @@ def test_two_drivers_five_bar():
     fd = (rr.joints["B"]["x"][1] - rr.joints["B"]["x"][0]) / (2 * h)
     assert fd == pytest.approx(r.joints["B"]["vx"][5], abs=1e-8)
     assert len(r.to_dict()["q"][0]) == 2
+
+
+def test_zero_length_side_is_bad_input():
+    m = four_bar(0.3, 0.8, 0.7, 1.0, 1.0)
+    data = mechanism_to_dict(m)
+    data["joints"][1]["at"] = data["joints"][2]["at"]  # A onto B: link 2 has no length
+    with pytest.raises(MechanismError, match=r"joints\[2\]\.at: joints 'A' and 'B' of link '2'"):
+        kinematics(mechanism_from_dict(data))

@@ -34,6 +34,7 @@ def test_contract_keys_and_speed(capsys):
     assert d["warnings"] == []
     assert d["plan"]["complexity"] == {"general": 0, "right": 2, "checks": 0, "unknowns": 0}
     assert d["links"]["1"]["omega"] == pytest.approx([0.5] * 8)
+    assert d["closure"] is None
     # negative speed: the coordinate decreases, the crank turns clockwise
     d2 = _json(capsys, ["kinematics", f, "--frames", "8", "--speed", "-0.5", "--json"])
     assert d2["q"][1] < d2["q"][0]
@@ -144,3 +145,13 @@ def test_zhivago_frame_driver_by_iteration_gives_the_same_motion():
     vE = rE.joints["D"]["vx"][:turn]
     vO = rO.joints["D"]["vx"] * dtheta
     assert np.abs(vO - vE).max() < 1e-8
+
+
+def test_closure_statistics_in_json(capsys):
+    f = str(example_path("class-iv-seed003"))
+    d = _json(capsys, ["kinematics", f, "--frames", "72", "--json"])
+    cl = d["closure"]
+    assert cl["unknowns"] == 1 and cl["frames_closed"] == 72
+    assert cl["max_error"] <= cl["tolerance"] and cl["iterations"] >= 1
+    assert d["checks"]["link_lengths"]["max_error"] < 1e-10
+    assert any("assume" in step for step in d["plan"]["steps"])

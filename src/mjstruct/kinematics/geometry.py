@@ -69,7 +69,8 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
     ------
     MechanismError
         a joint without ``at``, a prismatic joint without ``axis`` or with more than two
-        links, all joints at one point, a driver that is not a joint of the mechanism.
+        links, all joints at one point, two revolute joints of one link at one point
+        (a zero-length side), a driver that is not a joint of the mechanism.
     """
     if m.frame is None:
         raise MechanismError("frame: kinematics needs a frame link")
@@ -94,6 +95,16 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
     if scale <= 0.0:
         raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
     tol = COINCIDE * scale
+    index = {j.id: k for k, j in enumerate(m.joints)}
+    for link in m.links:
+        rev = [jid for jid in m.link_joints[link] if m.joint(jid).kind == "R"]
+        for i, a in enumerate(rev):
+            for b in rev[i + 1 :]:
+                if abs(centres[a] - centres[b]) <= tol:
+                    raise MechanismError(
+                        f"joints[{index[b]}].at: joints {a!r} and {b!r} of link {link!r} are at "
+                        "one point (a zero-length side; join them as one multiple joint)"
+                    )
 
     char_angle: dict[str, float] = {}
     char_joints: dict[str, tuple[str, ...]] = {}

@@ -101,6 +101,19 @@ class KinematicsResult:
                 for e in self.events
             ],
             "checks": self.checks,
+            "closure": None if self.closure is None else self._closure_dict(),
+        }
+
+    def _closure_dict(self) -> dict[str, Any]:
+        cl = self.closure
+        assert cl is not None
+        ok = cl.converged
+        return {
+            "unknowns": self.plan.unknowns,
+            "tolerance": cl.tol,
+            "iterations": cl.iterations,
+            "max_error": float(cl.error[ok].max()) if ok.any() else None,
+            "frames_closed": int(ok.sum()),
         }
 
     def table(self) -> tuple[list[str], np.ndarray]:
