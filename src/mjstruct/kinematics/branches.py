@@ -163,10 +163,11 @@ def track_branches(
             events.append(BranchEvent(qstar, cand, k, s.joint, kind, smin, action))
             i = after + 1
         # limits of feasible intervals (dead positions)
-        for i in np.flatnonzero(ok[:-1] != ok[1:]):
-            if _near_event(events, k, int(i)):
+        for edge in np.flatnonzero(ok[:-1] != ok[1:]):
+            e = int(edge)
+            if _near_event(events, k, e):
                 continue
-            a, b = (i, i + 1) if ok[i] else (i + 1, i)
+            a, b = (e, e + 1) if ok[e] else (e + 1, e)
             qb = (
                 _boundary(plan, geom, m, q[a], q[b], _modes_at(K, a), k)
                 if switchable

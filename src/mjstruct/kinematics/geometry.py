@@ -98,12 +98,12 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
     index = {j.id: k for k, j in enumerate(m.joints)}
     for link in m.links:
         rev = [jid for jid in m.link_joints[link] if m.joint(jid).kind == "R"]
-        for i, a in enumerate(rev):
-            for b in rev[i + 1 :]:
-                if abs(centres[a] - centres[b]) <= tol:
+        for i, ja in enumerate(rev):
+            for jb in rev[i + 1 :]:
+                if abs(centres[ja] - centres[jb]) <= tol:
                     raise MechanismError(
-                        f"joints[{index[b]}].at: joints {a!r} and {b!r} of link {link!r} are at "
-                        "one point (a zero-length side; join them as one multiple joint)"
+                        f"joints[{index[jb]}].at: joints {ja!r} and {jb!r} of link {link!r} are "
+                        "at one point (a zero-length side; join them as one multiple joint)"
                     )
 
     char_angle: dict[str, float] = {}
