@@ -386,3 +386,36 @@ def test_zero_length_side_is_bad_input():
     data["joints"][1]["at"] = data["joints"][2]["at"]  # A onto B: link 2 has no length
     with pytest.raises(MechanismError, match=r"joints\[2\]\.at: joints 'A' and 'B' of link '2'"):
         kinematics(mechanism_from_dict(data))
+
+
+def _double_parallelogram(r3: float):
+    """Three parallel cranks (0.5, 0.5, r3) on one coupler: Chebyshev says 0 DOF."""
+    th = 1.0
+    u = complex(math.cos(th), math.sin(th))
+    piv = {"O1": 0.0, "O2": 1.0, "O3": 2.0}
+    crank = {"O1": 0.5, "O2": 0.5, "O3": r3}
+    joints = [{"id": k, "links": ["0", c], "at": [v, 0.0]} for (k, v), c in zip(
+        piv.items(), "123", strict=True)]  # fmt: skip
+    for (k, v), c in zip(piv.items(), "123", strict=True):
+        p = v + crank[k] * u
+        joints.append({"id": "A" + k[1], "links": [c, "4"], "at": [p.real, p.imag]})
+    return mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
+
+
+def test_redundant_constraint_refines_mobility():
+    r = kinematics(_double_parallelogram(0.5), frames=90)
+    jac = r.checks["jacobian"]
+    # 12 equations, 12 coordinates, but rank 11: one redundant constraint, DOF 1
+    assert (jac["equations"], jac["coordinates"], jac["rank"]) == (12, 12, [11])
+    assert jac["redundant_constraints"] == 1 and jac["dof"] == 1
+    assert r.valid.all()
+    assert any("redundant constraint(s) hold" in w for w in r.warnings)
+    assert np.abs(r.links["3"]["omega"] - 1).max() < 1e-9
+
+
+def test_redundant_constraint_violated_when_not_parallel():
+    # the third crank is longer (0.6): with all cranks parallel the Jacobian still
+    # loses rank (infinitesimal mobility), but the mechanism cannot move
+    r = kinematics(_double_parallelogram(0.6), frames=90)
+    assert r.valid[0] and not r.valid[1:].any()
+    assert any(w.startswith("redundant constraint violated") for w in r.warnings)

@@ -154,9 +154,13 @@ def track_branches(
                     smin, qstar = float(sine[cand]), float(q[cand, 0])
                 kind = "change point" if smin < MEET else "near branch point"
             action = "kept"
-            legal = kind != "near branch point" and switchable and cand >= 3 and after < F
-            if legal and _smoother_flipped(plan, geom, m, q, K, k, s.joint, cand, after):
-                K[k][after:] *= -1
+            # the first frame beyond the branch point (the dip's frame may already be)
+            start = after
+            if not singular and (q[cand, 0] - qstar) * (q[after, 0] - q[cand, 0]) > 0:
+                start = cand
+            legal = kind != "near branch point" and switchable and start >= 3 and start < F
+            if legal and _smoother_flipped(plan, geom, m, q, K, k, s.joint, start):
+                K[k][start:] *= -1
                 action = "switched"
                 sine, _ = _sine(plan, geom, m, q, K, k, t)
                 ok = np.isfinite(sine)
@@ -214,9 +218,9 @@ def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:
     )
 
 
-def _smoother_flipped(plan, geom, m, q, K, k, joint, cand, after) -> bool:
-    """True when flipping step k's mode after frame ``cand`` continues the motion smoothly."""
-    idx = np.array([cand - 3, cand - 2, cand - 1, after])
+def _smoother_flipped(plan, geom, m, q, K, k, joint, start) -> bool:
+    """True when flipping step k's mode from frame ``start`` continues the motion smoothly."""
+    idx = np.array([start - 3, start - 2, start - 1, start])
     sub = q[idx]
     same = {kk: v[idx] for kk, v in K.items()}
     flip = {kk: v[idx].copy() for kk, v in K.items()}

@@ -391,11 +391,22 @@ def plan_kinematics(
             "(no triangle or closure sequence found)"
         )
     eqs = sum(s.equations for s in best.steps)
+    notes: tuple[str, ...] = ()
     if eqs != best.unknowns:
-        what = "over-constrained" if eqs > best.unknowns else "under-constrained"
-        raise MechanismError(
-            f"drivers: the mechanism is {what} with drivers {', '.join(drv)} "
-            f"({eqs} closure equation(s) for {best.unknowns} unknown(s))"
+        dof = _jacobian_dof(m, geom)
+        # more equations than unknowns is fine when the constraints themselves are
+        # redundant (rank J < Nu, seed 000) and the drivers match the refined DOF
+        redundant = eqs > best.unknowns and best.unknowns == 0 and len(drv) == dof
+        if not redundant:
+            what = "over-constrained" if eqs > best.unknowns else "under-constrained"
+            raise MechanismError(
+                f"drivers: the mechanism is {what} with drivers {', '.join(drv)} "
+                f"({eqs} closure equation(s) for {best.unknowns} unknown(s); "
+                f"the constraint Jacobian gives {dof} DOF)"
+            )
+        notes = (
+            f"{eqs} closure equation(s) with no unknown: redundant constraints "
+            f"(Jacobian DOF {dof}), checked along the motion",
         )
     ref = best.steps[0].links[0]
     return Plan(
@@ -405,7 +416,21 @@ def plan_kinematics(
         steps=tuple(best.steps),
         unknowns=best.unknowns,
         source=source,
+        notes=notes,
     )
+
+
+def _jacobian_dof(m: Mechanism, geom: Geometry) -> int:
+    """Mobility from the rank of the constraint Jacobian at the reference configuration."""
+    import numpy as np
+
+    from mjstruct.kinematics.jacobian import constraint_jacobian
+    from mjstruct.kinematics.triangles import Pose
+
+    z = np.zeros(1, complex)
+    poses = {x: Pose(0j, [z], np.ones(1, complex), []) for x in m.links}
+    J, _ = constraint_jacobian(m, geom, poses)
+    return int(J.shape[2] - np.linalg.matrix_rank(J[0], tol=1e-9 * max(1.0, geom.scale)))
 
 
 def _groups_from(

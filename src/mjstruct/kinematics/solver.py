@@ -209,6 +209,20 @@ def kinematics(
     with np.errstate(all="ignore"):
         ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2, K=K)
     result = _collect(m, plan, geom, qa, speed, ev)
+    if plan.unknowns == 0 and ev.residuals:
+        # redundant constraints: they must hold along the motion, else it stops there
+        worst = np.abs(ev.residual_matrix(0)).max(axis=1)
+        broken = ~(worst <= 1e-9 * geom.scale)
+        result.valid &= ~broken
+        if broken.any():
+            warnings.append(
+                f"redundant constraint violated on {int(broken.sum())} frame(s) (first q = "
+                f"{qa[np.argmax(broken), 0]:.9g}): the mechanism cannot move there"
+            )
+        else:
+            warnings.append(
+                f"redundant constraint(s) hold on all frames (max error {worst.max():.3g})"
+            )
     if sol is not None:
         result.valid &= sol.converged
         result.closure = sol
@@ -335,7 +349,7 @@ def _checks(r: KinematicsResult, ev: Evaluation) -> None:
         "rank": ranks,
         "redundant_constraints": jc.equations - max(ranks) if ranks else None,
         "dof": dof,
-        "min_abs_det": float(np.nanmin(dets[v])) if v.any() else None,
+        "min_abs_det": float(np.nanmin(dets[v])) if np.isfinite(dets[v]).any() else None,
         "max_abs_det": top if np.isfinite(top) else None,
         "near_singular_frames": [int(i) for i in flagged],
     }
