@@ -419,3 +419,34 @@ def test_redundant_constraint_violated_when_not_parallel():
     r = kinematics(_double_parallelogram(0.6), frames=90)
     assert r.valid[0] and not r.valid[1:].any()
     assert any(w.startswith("redundant constraint violated") for w in r.warnings)
+
+
+def test_inverted_slider_crank_rpr_dyad():
+    # crank O1A (0.3) carries a block at A that slides on a rocker pivoted at O2 = (1, 0)
+    a, th0 = 0.3, 0.7
+    A = a * complex(math.cos(th0), math.sin(th0))
+    guide = (A - 1.0) / abs(A - 1.0)
+    joints = [
+        {"id": "O1", "links": ["0", "1"], "at": [0.0, 0.0]},
+        {"id": "A", "links": ["1", "2"], "at": [A.real, A.imag]},
+        {"id": "S", "links": ["2", "3"], "type": "P", "at": [A.real, A.imag],
+         "axis": [guide.real, guide.imag]},
+        {"id": "O2", "links": ["3", "0"], "at": [1.0, 0.0]},
+    ]  # fmt: skip
+    m = mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
+    r = kinematics(m, frames=360, speed=1.5)
+    assert [s.kind for s in r.plan.steps] == ["reference", "driver-R", "RPR"]
+    assert r.plan.complexity()["right"] == 2
+    th = r.q[:, 0]
+    Ac = a * np.exp(1j * th)
+    # closed form: the rocker points from O2 to A; ω3 = Im(A' / (A - O2)), ε3 likewise
+    d = Ac - 1.0
+    w3 = (1j * Ac / d).imag * 1.5
+    e3 = ((-Ac / d) - (1j * Ac / d) ** 2).imag * 1.5**2
+    assert np.abs(r.links["3"]["omega"] - w3).max() < 1e-12
+    assert np.abs(r.links["3"]["eps"] - e3).max() < 1e-11
+    # the rocker's angle is its guide's direction, from O2 towards A
+    assert np.abs(np.exp(1j * r.links["3"]["angle"]) - d / np.abs(d)).max() < 1e-12
+    assert r.valid.all() and r.warnings == []
+    # the block turns with the rocker and stays on it
+    assert np.abs(r.links["2"]["omega"] - r.links["3"]["omega"]).max() == 0

@@ -133,7 +133,7 @@ def track_branches(
     events: list[BranchEvent] = []
     switchable = plan.unknowns == 0
     for k, s in enumerate(plan.steps):
-        if s.kind not in ("RRR", "RRP"):
+        if s.kind not in ("RRR", "RRP", "RPR"):
             continue
         base_mode = reference_mode(plan, geom, k)
         K[k] = np.full(F, base_mode, dtype=np.int8)

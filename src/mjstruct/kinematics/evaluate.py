@@ -36,6 +36,7 @@ from mjstruct.kinematics.triangles import (
     circle_circle,
     circle_line,
     distance_residual,
+    guide_pair,
     rotation_between,
 )
 from mjstruct.mechanism import Mechanism
@@ -182,6 +183,16 @@ def evaluate(
             place(c, Pose(zX, X, base.r, list(base.w)))
             first[s.joint] = b
             ev.solved[s.joint] = X
+        elif s.kind == "RPR":
+            b, c = s.links
+            z1, z2 = C[s.inputs[0]], C[s.inputs[1]]
+            P1, P2 = centre(s.inputs[0]), centre(s.inputs[1])
+            axis = geom.axes[s.joint]
+            mode = modes.get(k, _mode_rpr(z1, z2, axis))
+            r, w, disc, det = guide_pair(P1, P2, z1, z2, axis, mode, order)
+            ev.diag[k] = (disc, det)
+            place(b, Pose(z1, P1, r, w))
+            place(c, Pose(z2, P2, r, list(w)))
         elif s.kind == "place":
             P, Q = centre(s.inputs[0]), centre(s.inputs[1])
             r, w = rotation_between(P, Q, C[s.inputs[0]], C[s.inputs[1]])
@@ -207,7 +218,14 @@ def reference_mode(plan: Plan, geom: Geometry, k: int) -> int:
     s, C = plan.steps[k], geom.centres
     if s.kind == "RRR":
         return _mode_rrr(C[s.inputs[0]], C[s.inputs[1]], C[s.joint])
+    if s.kind == "RPR":
+        return _mode_rpr(C[s.inputs[0]], C[s.inputs[1]], geom.axes[s.joint])
     return _mode_rrp(C[s.inputs[0]], C[s.joint], geom.axes[s.inputs[1]])
+
+
+def _mode_rpr(z1: complex, z2: complex, axis: complex) -> int:
+    """Mode of a dyad RPR: whether P1P2 runs along the guide (+1) or against it (-1)."""
+    return 1 if ((z2 - z1) * axis.conjugate()).real >= 0 else -1
 
 
 def _mode_rrr(z1: complex, z2: complex, zX: complex) -> int:

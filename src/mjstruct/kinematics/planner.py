@@ -48,6 +48,8 @@ STEP_KINDS = {
     "meet at {joint} (one general triangle)",
     "RRP": "dyad RRP: link {links[0]} from centre {inputs[0]} meets slider {links[1]} at "
     "{joint} on the guide {inputs[1]} of link {base} (one right triangle)",
+    "RPR": "dyad RPR: links {links[0]}, {links[1]} from centres {inputs[0]}, {inputs[1]} "
+    "slide on each other at {joint} (one right triangle)",
     "place": "link {links[0]} placed by its known centres {inputs[0]}, {inputs[1]}",
     "close-distance": "closure: |{inputs[0]}{inputs[1]}| on link {links[0]} must equal its length",
     "close-point": "closure: centre {joint} from link {links[0]} must coincide with link "
@@ -114,7 +116,7 @@ class Plan:
         000's Zhivago count, 7, is ``general + checks``).
         """
         general = sum(1 + s.diagonal for s in self.steps if s.kind == "RRR")
-        right = sum(1 + s.diagonal for s in self.steps if s.kind == "RRP")
+        right = sum(1 + s.diagonal for s in self.steps if s.kind in ("RRP", "RPR"))
         checks = sum(s.checks for s in self.steps)
         return {"general": general, "right": right, "checks": checks, "unknowns": self.unknowns}
 
@@ -277,6 +279,27 @@ def _propagate(st: _State, drivers: tuple[str, ...], allowed: set[str] | None = 
             if found:
                 progress = True
                 break
+        if progress:
+            continue
+        # RPR: two links, one known centre each, sliding on each other (a guide pair)
+        for j in m.joints:
+            if j.kind != "P" or j.id in drivers:
+                continue
+            b, c = j.links
+            if b in st.placed or c in st.placed or b not in free or c not in free:
+                continue
+            kb, kc = st.known_on(b), st.known_on(c)
+            if len(kb) != 1 or len(kc) != 1 or _coincide(st, kb[0], kc[0]):
+                continue
+            step = Step(
+                "RPR", (b, c), joint=j.id, inputs=(kb[0], kc[0]),
+                diagonal=st.paths(kb[0], kc[0])[0], checks=st.paths(kb[0], kc[0])[1],
+            )  # fmt: skip
+            st.steps.append(step)
+            st.place(b, step, kb)
+            st.place(c, step, kc)
+            progress = True
+            break
 
 
 def _line_diagonal(st: _State, joint: str, base: str) -> int:

@@ -138,6 +138,41 @@ def circle_line(
     return X, disc, det
 
 
+def guide_pair(
+    P1: Jet, P2: Jet, z1: complex, z2: complex, axis: complex, K: np.ndarray | int, order: int
+) -> tuple[np.ndarray, Jet, np.ndarray, np.ndarray]:
+    """Dyad RPR: common rotation of two links sliding on each other along ``axis``.
+
+    Link b carries P1 (reference z1), link c carries P2 (reference z2); the guide keeps
+    P2 on the line through b's image of z2 with direction ``axis`` turned with b.  With
+    g = conj(axis) e^{-iθ} (P2 - P1) the constraint is Im g = e (the guide's offset);
+    its derivatives give θ' and θ''.  Returns r = e^{iθ}, [θ', θ''], the discriminant
+    1 - (e/|P2 - P1|)² and the cosine between the guide and P1P2 (zero: dead point).
+    """
+    e = ((z2 - z1) * axis.conjugate()).imag
+    w = P2[0] - P1[0]
+    W = np.abs(w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = e / W
+        disc = 1.0 - ratio * ratio
+        # θ = arg w - arg axis - asin(e/|w|) on one side, π - asin on the other
+        alpha = np.arcsin(np.clip(ratio, -1.0, 1.0))
+        alpha = np.where(np.asarray(K) > 0, alpha, np.pi - alpha)
+        theta = np.angle(w) - np.angle(axis) - alpha
+        theta = np.where(disc >= -1e-12, theta, np.nan)
+        r = np.exp(1j * theta)
+        c = axis.conjugate() * r.conjugate()
+        g = c * w
+        out: Jet = []
+        if order >= 1:
+            t1 = (c * (P2[1] - P1[1])).imag / g.real
+            out.append(t1)
+        if order >= 2:
+            w1, w2 = P2[1] - P1[1], P2[2] - P1[2]
+            out.append((c * (w2 - 2j * t1 * w1 - t1 * t1 * w)).imag / g.real)
+    return r, out, disc, g.real / W
+
+
 def rotation_between(P: Jet, Q: Jet, zP: complex, zQ: complex) -> tuple[np.ndarray, Jet]:
     """Rotation of a link carrying P and Q (reference positions zP, zQ): ``r`` and θ', θ''."""
     v = Q[0] - P[0]
