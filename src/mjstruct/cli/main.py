@@ -18,6 +18,9 @@ from mjstruct.errors import MechanismError, NumericalError
 COMMANDS: dict[str, str] = {
     "analyze": "structural report of a mechanism file or of a structural code",
     "iso": "exact isomorphism of two mechanism files",
+    "atlas": "all non-isomorphic admissible chains with F DOF and n links",
+    "cells": "synthesis cells (K, V), their [MJA] and [LA], and realisable counts",
+    "lookup": "find a mechanism's chain in the shipped catalogs",
     "kinematics": "positions, velocities, accelerations over one cycle (triangle rule)",
     "assur": "Assur-group decomposition (MJs kept whole) and driver choices",
 }

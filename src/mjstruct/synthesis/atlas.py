@@ -310,6 +310,7 @@ def atlas(
     fractionated: bool = False,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
+    scheduler: str | None = None,
 ) -> Atlas:
     """All non-isomorphic admissible chains with ``F`` DOF and ``n`` links.
 
@@ -325,6 +326,8 @@ def atlas(
         Processes to use (the result does not depend on it).
     progress : callable, optional
         Called as ``progress(done, total)`` after each task.
+    scheduler : str, optional
+        Address of a Dask scheduler to run the tasks on (optional extra).
     """
     if n < 1:
         raise MechanismError(f"--links: need at least one link, got {n}")
@@ -336,7 +339,9 @@ def atlas(
     tasks = atlas_tasks(F, n, mj, fractionated)
     from mjstruct.synthesis.parallel import run_tasks
 
-    for chains in run_tasks(_task_chains, tasks, workers=workers, progress=progress):
+    for chains in run_tasks(
+        _task_chains, tasks, workers=workers, progress=progress, scheduler=scheduler
+    ):
         result.chains.extend(chains)
     result.chains.sort(key=Chain.sort_key)
     return result

@@ -1,0 +1,111 @@
+"""``mjstruct atlas --dof F --links n [--mj] [--fractionated]``: all non-isomorphic
+admissible chains; ``--assur``: Assur groups instead."""
+
+from __future__ import annotations
+
+import argparse
+from collections import Counter
+from typing import Any
+
+from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.errors import MechanismError
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--dof", type=int, default=1, help="degrees of freedom F (default 1)")
+    p.add_argument("--links", type=int, required=True, help="number of links n")
+    p.add_argument("--mj", action="store_true", help="also chains with multiple joints")
+    p.add_argument("--fractionated", action="store_true", help="also chains with a cut vertex")
+    p.add_argument("--assur", action="store_true", help="Assur groups with n links instead")
+    p.add_argument("--workers", type=int, default=1, help="processes to use (default 1)")
+    p.add_argument(
+        "--scheduler", default=None, help="Dask scheduler address (optional dask extra)"
+    )
+    p.add_argument("--list", action="store_true", help="text output: one line per chain")
+    p.add_argument("--json", action="store_true")
+
+
+def _ids(chains: list, F: int, n: int) -> dict[str, str]:
+    """Catalog ids of the chains, when (F, n) is shipped."""
+    from mjstruct.synthesis.catalog import read_catalog
+
+    return {r["canonical"]: r["id"] for r in read_catalog(F, n)}
+
+
+def run(args: argparse.Namespace) -> int:
+    from mjstruct.synthesis.parallel import ProgressBar
+
+    if args.links < 1:
+        raise MechanismError(f"--links: need at least one link, got {args.links}")
+    if args.workers < 1:
+        raise MechanismError(f"--workers: need at least 1, got {args.workers}")
+    if args.assur:
+        return _run_assur(args)
+    if args.dof < 1:
+        raise MechanismError(f"--dof: need F >= 1, got {args.dof}")
+    from mjstruct.synthesis.names import familiar_names
+
+    bar = ProgressBar.for_cli(f"atlas F={args.dof} n={args.links}", args.json)
+    a = _run_atlas(args, bar)
+    names = familiar_names()
+    ids = _ids(a.chains, args.dof, args.links)
+    chains = []
+    for c in a.chains:
+        d: dict[str, Any] = {"id": ids.get(c.canonical), "name": names.get(c.canonical)}
+        d.update(c.to_dict())
+        d["cell"] = [c.K, c.V]
+        chains.append(d)
+    nonplanar = sum(not c.planar for c in a.chains)
+    if args.json:
+        emit_json(
+            {
+                "F": args.dof,
+                "n": args.links,
+                "mj": args.mj,
+                "fractionated": args.fractionated,
+                "count": a.count,
+                "nonplanar": nonplanar,
+                "chains": chains,
+            }
+        )
+        return 0
+    kind = "simple and multiple joints" if args.mj else "simple joints"
+    frac = ", fractionated included" if args.fractionated else ""
+    lines = [
+        f"F = {args.dof}, n = {args.links} ({kind}{frac}): {a.count} chains, "
+        f"{nonplanar} not planar"
+    ]
+    by_code = Counter((c.V, c.MJA, c.LA) for c in a.chains)
+    if by_code:
+        lines.append("  [LA] / [MJA]: count")
+        for (_, mja, la), count in sorted(by_code.items()):
+            lines.append(f"  {list(la)} / {list(mja)}: {count}")
+    if args.list:
+        for d in chains:
+            flag = "" if d["planar"] else "  non-planar"
+            label = d["id"] or "-"
+            lines.append(f"{label}  {d['LA']}/{d['MJA']}  {d['canonical']}{flag}  {d['joints']}")
+    emit_text("\n".join(lines))
+    return 0
+
+
+def _run_atlas(args: argparse.Namespace, bar: Any) -> Any:
+    from mjstruct.synthesis.atlas import atlas
+
+    return atlas(
+        args.dof,
+        args.links,
+        mj=args.mj,
+        fractionated=args.fractionated,
+        workers=args.workers,
+        progress=bar,
+        scheduler=args.scheduler,
+    )
+
+
+def _run_assur(args: argparse.Namespace) -> int:
+    try:
+        from mjstruct.synthesis.assur_atlas import assur_atlas_command
+    except ImportError:
+        raise MechanismError("--assur: the Assur-group atlas is not available yet") from None
+    return int(assur_atlas_command(args))

@@ -1,0 +1,48 @@
+"""``mjstruct lookup FILE``: find a mechanism's chain in the shipped catalogs."""
+
+from __future__ import annotations
+
+import argparse
+
+from mjstruct.cli.output import emit_json, emit_text
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file")
+    p.add_argument("--json", action="store_true")
+
+
+def run(args: argparse.Namespace) -> int:
+    from mjstruct.io import read_mechanism
+    from mjstruct.synthesis.catalog import lookup
+
+    r = lookup(read_mechanism(args.file))
+    if args.json:
+        out: dict = {"found": r.found, "canonical": r.canonical, "F": r.F, "n": r.n}
+        if r.found:
+            rec = r.record
+            out.update(
+                {
+                    k: rec[k]
+                    for k in ("id", "name", "K", "V", "code", "code_star", "cell", "LA", "MJA")
+                }
+            )
+            out["planar"] = rec["planar"]
+            out["fractionated"] = rec["fractionated"]
+        else:
+            out["reason"] = r.reason
+        emit_json(out)
+        return 0
+    if not r.found:
+        emit_text(f"{args.file}: {r.reason}\ncanonical {r.canonical}")
+        return 0
+    rec = r.record
+    emit_text(
+        f"{args.file}: {rec['id']}" + (f" ({rec['name']})" if rec["name"] else "") + "\n"
+        f"cell {rec['cell']}  code {rec['code']}  code* {rec['code_star']}  "
+        f"F = {rec['F']}  n = {rec['n']}"
+        + ("" if rec["planar"] else "  non-planar")
+        + ("  fractionated" if rec["fractionated"] else "")
+        + f"\ncanonical {rec['canonical']}"
+    )
+    return 0
