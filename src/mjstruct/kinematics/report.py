@@ -62,7 +62,8 @@ def render(r: KinematicsResult) -> str:
         j = ch["jacobian"]
         out.append(
             f"check Jacobian: {j['equations']} equations × {j['coordinates']} coordinates, "
-            f"rank {j['rank']}, redundant {j['redundant_constraints']}, DOF {j['dof']}, "
+            f"rank {j['rank']} (SVD on {j['rank_frames']} frames), "
+            f"redundant {j['redundant_constraints']}, DOF {j['dof']}, "
             f"|det| with drivers fixed in [{_g(j['min_abs_det'])}, {_g(j['max_abs_det'])}], "
             f"near-singular frames {j['near_singular_frames'] or 'none'}"
         )

@@ -336,7 +336,7 @@ def _checks(r: KinematicsResult, ev: Evaluation) -> None:
     with np.errstate(all="ignore"):
         jc = check_jacobian(m, g, ev.poses, r.plan.drivers)
     r.jacobian = jc
-    ranks = sorted({int(x) for x in jc.rank[v]}) if v.any() else []
+    ranks = sorted({int(x) for x in jc.rank[v] if x >= 0}) if v.any() else []
     dets = np.abs(jc.det)
     top = float(np.nanmax(dets[v])) if v.any() and np.isfinite(dets[v]).any() else float("nan")
     flagged = (
@@ -347,6 +347,7 @@ def _checks(r: KinematicsResult, ev: Evaluation) -> None:
         "equations": jc.equations,
         "coordinates": jc.coordinates,
         "rank": ranks,
+        "rank_frames": int((jc.rank[v] >= 0).sum()),
         "redundant_constraints": jc.equations - max(ranks) if ranks else None,
         "dof": dof,
         "min_abs_det": float(np.nanmin(dets[v])) if np.isfinite(dets[v]).any() else None,
