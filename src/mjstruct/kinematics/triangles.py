@@ -42,6 +42,8 @@ class Pose:
 
     def point(self, z: complex) -> Jet:
         """Jet of the link's point whose reference position is ``z``."""
+        if z == self.zA:  # the anchor itself: nothing to compute
+            return list(self.A)
         rd = self.r * (z - self.zA)
         out = [self.A[0] + rd]
         if len(self.A) > 1:
