@@ -1,0 +1,194 @@
+"""Atlas enumeration: published counts, no duplicates (VF2), admissibility (brute force),
+completeness against independent brute-force enumerations on small cases."""
+
+from __future__ import annotations
+
+import itertools
+import json
+
+import networkx as nx
+import pytest
+from networkx.algorithms.isomorphism import GraphMatcher
+
+from mjstruct.cli.main import main
+from mjstruct.mechanism import Mechanism
+from mjstruct.structure.isomorphism import canonical_code
+from mjstruct.synthesis.admissibility import (
+    is_admissible,
+    is_fractionated,
+    rigid_subchain,
+    subchain_mobility,
+)
+from mjstruct.synthesis.atlas import atlas
+
+# Published counts of non-fractionated simple-joint chains without rigid sub-chains
+# (Mruthyunjaya; Tsai, "Mechanism design: enumeration of kinematic structures").
+PUBLISHED = [(1, 4, 1), (1, 6, 2), (1, 8, 16), (1, 10, 230), (2, 5, 1), (2, 7, 3), (2, 9, 35)]
+
+
+@pytest.mark.parametrize(("F", "n", "count"), PUBLISHED)
+def test_published_simple_joint_counts(F: int, n: int, count: int) -> None:
+    assert atlas(F, n).count == count
+
+
+def test_twelve_links_with_two_workers() -> None:
+    a = atlas(1, 12, workers=2)
+    assert a.count == 6856
+    assert len({c.canonical for c in a.chains}) == a.count
+
+
+def test_ten_links_nonplanar_are_kept_and_flagged() -> None:
+    a = atlas(1, 10)
+    nonplanar = [c for c in a.chains if not c.planar]
+    assert len(nonplanar) == 11
+    for c in nonplanar:
+        assert not nx.check_planarity(c.mechanism().graph())[0]
+
+
+@pytest.mark.parametrize(("F", "n", "count"), [(2, 7, 4), (2, 9, 40)])
+def test_fractionated_counts(F: int, n: int, count: int) -> None:
+    """With fractionated chains the published 2-DOF totals are 4 and 40."""
+    a = atlas(F, n, fractionated=True)
+    assert a.count == count
+    assert sum(c.fractionated for c in a.chains) == count - atlas(F, n).count
+
+
+def test_worker_count_does_not_change_output() -> None:
+    one = atlas(1, 10, mj=True)
+    two = atlas(1, 10, mj=True, workers=2)
+    assert [c.to_dict() for c in one.chains] == [c.to_dict() for c in two.chains]
+
+
+def _vf2_duplicates(chains: list) -> int:
+    graphs = [(c, c.mechanism().graph()) for c in chains]
+    dup = 0
+    for (a, ga), (b, gb) in itertools.combinations(graphs, 2):
+        if sorted(d for _, d in ga.degree()) != sorted(d for _, d in gb.degree()):
+            continue
+        gm = GraphMatcher(ga, gb, node_match=lambda x, y: x["bipartite"] == y["bipartite"])
+        dup += gm.is_isomorphic()
+    return dup
+
+
+SMALL = [(1, 6, True, False), (1, 8, True, False), (2, 7, True, True), (2, 9, False, True)]
+
+
+@pytest.mark.parametrize(("F", "n", "mj", "frac"), SMALL)
+def test_small_atlases_exact(F: int, n: int, mj: bool, frac: bool) -> None:
+    a = atlas(F, n, mj=mj, fractionated=frac)
+    assert _vf2_duplicates(a.chains) == 0
+    for c in a.chains:
+        m = c.mechanism()
+        assert is_admissible(m), c
+        assert canonical_code(m, "chain") == c.canonical
+        assert is_fractionated(m) == c.fractionated
+        assert m.n == n and (n - 1 - F) // 2 == c.K
+        assert mj or c.V == 0
+
+
+def test_mj_atlas_extends_the_simple_joint_one() -> None:
+    sj = atlas(2, 9)
+    mj = atlas(2, 9, mj=True)
+    assert [c.canonical for c in mj.chains[: sj.count]] == [c.canonical for c in sj.chains]
+    assert all(c.V > 0 for c in mj.chains[sj.count :])
+    # j <= K for every joint, V <= 2(K - 1)
+    for c in mj.chains:
+        assert max(len(j) - 1 for j in c.joints) <= c.K
+        assert c.V <= 2 * (c.K - 1)
+
+
+def _brute_force_codes(F: int, n: int, fractionated: bool) -> set[str]:
+    """Every set of joints (any multiplicity) on n links, filtered and deduplicated."""
+    K = (n - 1 - F) // 2
+    budget = n - 1 + K  # Σ (m - 1) = p
+    cands = [s for r in range(2, n + 1) for s in itertools.combinations(range(n), r)]
+    codes: set[str] = set()
+
+    def rec(start: int, left: int, chosen: list, pairs: frozenset, deg: list[int]) -> None:
+        if left == 0:
+            if min(deg) < 2:
+                return
+            try:
+                m = Mechanism.build([(f"J{k}", list(s)) for k, s in enumerate(chosen)])
+            except Exception:  # disconnected
+                return
+            if is_admissible(m) and (fractionated or not is_fractionated(m)):
+                codes.add(canonical_code(m))
+            return
+        for k in range(start, len(cands)):
+            s = cands[k]
+            if not chosen and 0 not in s:
+                break
+            ps = frozenset(itertools.combinations(s, 2))
+            if len(s) - 1 > left or ps & pairs:  # two links sharing two joints: rigid
+                continue
+            for x in s:
+                deg[x] += 1
+            chosen.append(s)
+            rec(k + 1, left - len(s) + 1, chosen, pairs | ps, deg)
+            chosen.pop()
+            for x in s:
+                deg[x] -= 1
+
+    rec(0, budget, [], frozenset(), [0] * n)
+    return codes
+
+
+@pytest.mark.parametrize(("F", "n", "frac"), [(1, 4, True), (2, 5, True), (1, 6, True)])
+def test_complete_against_brute_force_with_mj(F: int, n: int, frac: bool) -> None:
+    expected = _brute_force_codes(F, n, frac)
+    got = {c.canonical for c in atlas(F, n, mj=True, fractionated=frac).chains}
+    assert got == expected
+
+
+def test_complete_against_networkx_graph_atlas() -> None:
+    """Simple-joint chains up to 7 links from networkx's atlas of all small graphs."""
+    expected: dict[tuple[int, int, bool], set[str]] = {}
+    for g in nx.graph_atlas_g()[1:]:
+        n = g.number_of_nodes()
+        F = 3 * (n - 1) - 2 * g.number_of_edges()
+        if n < 4 or F < 1 or not nx.is_connected(g) or min(d for _, d in g.degree()) < 2:
+            continue
+        m = Mechanism.build([(f"J{k}", [u, v]) for k, (u, v) in enumerate(g.edges)])
+        if is_admissible(m):
+            for frac in (False, True):
+                if frac or not is_fractionated(m):
+                    expected.setdefault((F, n, frac), set()).add(canonical_code(m))
+    assert expected, "the graph atlas gave nothing"
+    for (F, n, frac), codes in expected.items():
+        got = {c.canonical for c in atlas(F, n, fractionated=frac).chains}
+        assert got == codes, (F, n, frac)
+
+
+def test_rigid_subchain_brute_force_reference() -> None:
+    # two four-bar loops sharing a link pair (links 0, 1 share joints a and e): rigid pair
+    m = Mechanism.build(
+        [("a", [0, 1]), ("b", [1, 2]), ("c", [2, 3]), ("d", [3, 0]), ("e", [0, 1, 4])]
+    )
+    s = rigid_subchain(m)
+    assert s is not None and subchain_mobility(m, set(s)) <= 0
+    assert set(s) == {"0", "1"}
+
+
+def test_cli_atlas_json_contract(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["atlas", "--dof", "1", "--links", "6", "--mj", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["count"] == len(out["chains"]) == 4
+    names = {c["name"] for c in out["chains"]}
+    assert {"Watt six-bar", "Stephenson six-bar"} <= names
+    for c in out["chains"]:
+        assert {"canonical", "LA", "MJA", "planar", "joints", "id"} <= set(c)
+        m = Mechanism.build([(f"J{k}", js) for k, js in enumerate(c["joints"])])
+        assert canonical_code(m) == c["canonical"]
+
+
+def test_cli_atlas_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["atlas", "--dof", "1", "--links", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--links" in err
+    assert main(["atlas", "--dof", "1", "--links", "6", "--workers", "0"]) == 2
+
+
+def test_cli_atlas_odd_size_is_empty(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["atlas", "--dof", "1", "--links", "7", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["count"] == 0
