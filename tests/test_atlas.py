@@ -60,9 +60,9 @@ def test_worker_count_does_not_change_output() -> None:
 
 
 def _vf2_duplicates(chains: list) -> int:
-    graphs = [(c, c.mechanism().graph()) for c in chains]
+    graphs = [c.mechanism().graph() for c in chains]
     dup = 0
-    for (a, ga), (b, gb) in itertools.combinations(graphs, 2):
+    for ga, gb in itertools.combinations(graphs, 2):
         if sorted(d for _, d in ga.degree()) != sorted(d for _, d in gb.degree()):
             continue
         gm = GraphMatcher(ga, gb, node_match=lambda x, y: x["bipartite"] == y["bipartite"])
