@@ -1,0 +1,65 @@
+"""The seed's isomorphism invariants: [LA], [MJA], [L] and the link sets at each MJ.
+
+Seed 002 decides whether two drawings are the same structure by comparing these.
+They are necessary conditions only: equal invariants do not make two chains
+isomorphic (``catalogs/examples/iso-counterexample-a.json`` and ``-b.json`` are such a
+pair).  The exact test is :func:`mjstruct.structure.isomorphism.canonical_code`.
+
+"Link sets at MJs": for every multiple joint, the sorted numbers of joints of the
+links it joins (e.g. ``(2, 2, 3)``: two binary links and a ternary one); the list of
+these over all MJs, sorted.
+
+Examples
+--------
+>>> from mjstruct.mechanism import Mechanism
+>>> m = Mechanism.build([("a", [0, 1]), ("b", [1, 2, 3]), ("c", [2, 0]), ("d", [3, 0])])
+>>> inv = seed_invariants(m)
+>>> inv.LA, inv.MJA, inv.mj_link_sets
+((3, 1), (1,), ((2, 2, 3),))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from mjstruct.mechanism import Mechanism
+
+
+@dataclass(frozen=True)
+class SeedInvariants:
+    """The invariants seed 002 compares; ``loops`` is None for a non-planar chain."""
+
+    LA: tuple[int, ...]
+    MJA: tuple[int, ...]
+    loops: tuple[int, ...] | None
+    mj_link_sets: tuple[tuple[int, ...], ...]
+
+    def to_dict(self) -> dict:
+        return {
+            "LA": list(self.LA),
+            "MJA": list(self.MJA),
+            "loops": None if self.loops is None else list(self.loops),
+            "mj_link_sets": [list(s) for s in self.mj_link_sets],
+        }
+
+
+def mj_link_sets(m: Mechanism) -> tuple[tuple[int, ...], ...]:
+    """For each MJ, the sorted joint counts of its links; sorted over the MJs."""
+    degree = {link: len(js) for link, js in m.link_joints.items()}
+    return tuple(
+        sorted(tuple(sorted(degree[x] for x in j.links)) for j in m.joints if j.is_multiple)
+    )
+
+
+def seed_invariants(m: Mechanism) -> SeedInvariants:
+    """[LA], [MJA], [L] (sorted face sizes, outer face included) and the MJ link sets."""
+    from mjstruct.structure.assortments import link_assortment, mj_assortment
+    from mjstruct.structure.loops import loop_assortment
+
+    la = loop_assortment(m)
+    return SeedInvariants(
+        LA=tuple(link_assortment(m)),
+        MJA=tuple(mj_assortment(m)),
+        loops=None if la is None else tuple(la.sizes),
+        mj_link_sets=mj_link_sets(m),
+    )
