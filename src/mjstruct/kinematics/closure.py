@@ -28,6 +28,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,9 @@ from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.planner import Plan
 from mjstruct.mechanism import Mechanism
+
+#: assembly mode per dyad step (±1, scalar or per frame), as :func:`evaluate` takes it
+Modes = Mapping[int, np.ndarray | int] | None
 
 #: largest continuation step along the path (radians of the driver, or scale units)
 STATION_STEP = 0.25
@@ -96,7 +100,7 @@ def newton(
     m: Mechanism,
     q: np.ndarray,
     t0: np.ndarray,
-    K=None,
+    K: Modes = None,
     tol: float = 1e-13,
     maxiter: int = 30,
 ) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
@@ -159,7 +163,7 @@ def close(
     m: Mechanism,
     q: np.ndarray,
     rates: np.ndarray | None = None,
-    K=None,
+    K: Modes = None,
     tol: float = 1e-13,
     maxiter: int = 30,
 ) -> Closure:
@@ -261,7 +265,15 @@ def _tangent(plan, geom, m, q, t, K, rate) -> np.ndarray:
     return -_solve(J, ev.residual_matrix(1))
 
 
-def derivatives(plan, geom, m, q, t, rate, K) -> tuple[np.ndarray, np.ndarray]:
+def derivatives(
+    plan: Plan,
+    geom: Geometry,
+    m: Mechanism,
+    q: np.ndarray,
+    t: np.ndarray,
+    rate: np.ndarray,
+    K: Modes = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """t' and t'' along the path: ``R_t t' = -R_q q'`` then ``R_t t'' = -R''|_{t''=0}``."""
     _, J = _jacobian(plan, geom, m, q, t, K)
     ev = evaluate(plan, geom, m, q, order=1, rates=rate, t=t, K=K)

@@ -134,7 +134,9 @@ class KinematicsResult:
         return names, data
 
 
-def sweep(geom: Geometry, plan: Plan, m: Mechanism, frames: int, speed: float, stroke: float):
+def sweep(
+    geom: Geometry, plan: Plan, m: Mechanism, frames: int, speed: float, stroke: float
+) -> np.ndarray:
     """N frames over one cycle from the reference: a full turn, or ``stroke`` for a slide."""
     if frames < 1:
         raise MechanismError(f"--frames: must be >= 1, got {frames}")
