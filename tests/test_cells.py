@@ -1,0 +1,84 @@
+"""Synthesis cells: the seed's 20 cells, assortment formulas, and realisation counts
+consistent with the atlas."""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+
+import pytest
+
+from mjstruct.cli.main import main
+from mjstruct.synthesis.atlas import atlas
+from mjstruct.synthesis.cells import cells, code_counts, link_assortments, mj_assortments
+
+
+def test_twenty_cells_up_to_five_loops() -> None:
+    cs = cells(5)
+    assert len(cs) == 20
+    assert Counter(c.K for c in cs) == {2: 2, 3: 4, 4: 6, 5: 8}
+
+
+@pytest.mark.parametrize("K", [2, 3, 4, 5, 6])
+def test_mja_are_partitions_of_v(K: int) -> None:
+    for V in range(1, 2 * K - 1):
+        mjas = mj_assortments(K, V)
+        assert len(set(mjas)) == len(mjas)
+        for nu in mjas:
+            assert len(nu) == K - 1  # ν2 .. ν_K: j <= K
+            assert sum((j - 1) * c for j, c in enumerate(nu, start=2)) == V
+
+
+@pytest.mark.parametrize(("K", "F"), [(2, 1), (3, 1), (4, 1), (3, 2), (4, 2)])
+def test_la_satisfy_the_cell_equations(K: int, F: int) -> None:
+    for V in range(0, 2 * K - 1):
+        for la in link_assortments(K, V, F):
+            assert sum(la) == F + 1 + 2 * K
+            assert sum(k * n for k, n in enumerate(la)) == 2 * (K - 1) - V
+            # the code-level K formula
+            assert 1 + (V + sum(k * n for k, n in enumerate(la))) // 2 == K
+
+
+@pytest.mark.parametrize(("F", "kmax"), [(1, 3), (2, 3)])
+def test_counts_match_fresh_enumeration(F: int, kmax: int) -> None:
+    rows = code_counts(F, kmax, with_sj=True)
+    for K in range(2, kmax + 1):
+        a = atlas(F, F + 1 + 2 * K, mj=True)
+        assert sum(r.count for r in rows if r.K == K) == a.count
+        tally = Counter((c.V, c.LA, c.MJA) for c in a.chains)
+        for r in rows:
+            if r.K != K:
+                continue
+            la = tuple(r.LA)
+            while la[-1] == 0:
+                la = la[:-1]
+            mja = tuple(r.MJA)
+            while mja and mja[-1] == 0:
+                mja = mja[:-1]
+            assert r.count == tally[(r.V, la, mja)]
+
+
+def test_every_atlas_chain_lies_in_a_listed_cell() -> None:
+    listed = {(c.K, c.V, m) for c in cells(4) for m in c.MJA}
+    for c in atlas(1, 10, mj=True).chains:
+        if c.V:
+            mja = c.MJA + (0,) * (c.K - 1 - len(c.MJA))
+            assert (c.K, c.V, mja) in listed
+
+
+def test_cli_cells_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["cells", "--kmax", "5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert len(out["cells"]) == 20
+    assert {"K", "V", "MJA"} <= set(out["cells"][0])
+    assert main(["cells", "--kmax", "3", "--dof", "1", "--count", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    total = sum(code["chains"] for c in out["cells"] for code in c["codes"])
+    # cells have V >= 1: every chain with an MJ, K = 2 (n = 6) and K = 3 (n = 8)
+    assert total == sum(atlas(1, n, mj=True).count - atlas(1, n).count for n in (6, 8))
+
+
+def test_cli_cells_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["cells", "--kmax", "1"]) == 2
+    assert "--kmax" in capsys.readouterr().err
+    assert main(["cells", "--kmax", "3", "--count"]) == 2

@@ -1,0 +1,106 @@
+"""Shipped catalogs and lookup: every example file, catalog integrity, honest misses."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from mjstruct.cli.main import main
+from mjstruct.io import read_mechanism
+from mjstruct.structure.isomorphism import canonical_code
+from mjstruct.synthesis.admissibility import is_admissible
+from mjstruct.synthesis.atlas import atlas
+from mjstruct.synthesis.catalog import SHIPPED, catalog_records, lookup, read_catalog
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = sorted((ROOT / "catalogs" / "examples").glob("*.json"))
+
+
+@pytest.fixture(autouse=True)
+def _private_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_lookup_every_example(path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    m = read_mechanism(path)
+    r = lookup(m)
+    if r.found:
+        assert r.record["canonical"] == canonical_code(m, "chain")
+        assert (r.record["F"], r.record["n"]) == (r.F, m.n)
+    elif (r.F, m.n) in SHIPPED:
+        assert not is_admissible(m)
+    else:
+        assert "not in catalog" in r.reason and "mjstruct atlas" in r.reason
+    assert main(["lookup", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["found"] == r.found
+    if r.found:
+        assert {"id", "name", "K", "V", "code", "code_star"} <= set(out)
+
+
+def test_familiar_names() -> None:
+    ex = ROOT / "catalogs" / "examples"
+    assert lookup(read_mechanism(ex / "watt.json")).record["name"] == "Watt six-bar"
+    assert lookup(read_mechanism(ex / "stephenson.json")).record["name"] == "Stephenson six-bar"
+    assert lookup(read_mechanism(ex / "four-bar.json")).record["name"] == "four-bar"
+
+
+@pytest.mark.parametrize(("F", "n"), [(F, n) for F, n in SHIPPED if n <= 9])
+def test_shipped_catalog_equals_fresh_enumeration(F: int, n: int) -> None:
+    assert read_catalog(F, n) == catalog_records(F, n)
+
+
+@pytest.mark.parametrize(("F", "n"), SHIPPED)
+def test_catalog_integrity(F: int, n: int) -> None:
+    recs = read_catalog(F, n)
+    assert recs
+    assert len({r["id"] for r in recs}) == len({r["canonical"] for r in recs}) == len(recs)
+    sj = atlas(F, n).count if n <= 10 else None
+    plain = [r for r in recs if not r["fractionated"] and r["V"] == 0]
+    assert len(plain) == sj
+    assert [r["id"] for r in plain] == [f"F{F}n{n}-{k:04d}" for k in range(1, len(plain) + 1)]
+    for r in recs[:: max(1, len(recs) // 25)]:
+        from mjstruct.mechanism import Mechanism
+
+        m = Mechanism.build([(f"J{k}", js) for k, js in enumerate(r["joints"])])
+        assert canonical_code(m) == r["canonical"]
+
+
+def test_lookup_outside_catalog_is_honest(capsys: pytest.CaptureFixture[str]) -> None:
+    path = ROOT / "catalogs" / "examples" / "radial-engine-5.json"
+    assert main(["lookup", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "not in catalog" in out and "--links 12" in out
+
+
+def test_lookup_rigid_chain_in_range(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # a triangle with a four-bar loop attached: F = 1, n = 6, but rigid sub-chain
+    d = {
+        "joints": [
+            {"id": k, "links": ls}
+            for k, ls in [
+                ("a", [0, 1]),
+                ("b", [1, 2]),
+                ("c", [2, 0]),
+                ("d", [2, 3]),
+                ("e", [3, 4]),
+                ("f", [4, 5]),
+                ("g", [5, 0]),
+            ]
+        ]
+    }
+    p = tmp_path / "rigid.json"
+    p.write_text(json.dumps(d))
+    assert main(["lookup", str(p), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["found"] is False and "rigid" in out["reason"]
+
+
+def test_lookup_bad_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    p = tmp_path / "bad.json"
+    p.write_text("{")
+    assert main(["lookup", str(p)]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
