@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mjstruct.kinematics.evaluate import evaluate, reference_mode
+from mjstruct.kinematics.evaluate import Evaluation, evaluate, reference_mode
 from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.planner import Plan
 from mjstruct.mechanism import Mechanism
@@ -78,10 +78,14 @@ class BranchEvent:
 
 def _sine(plan, geom, m, q, K, k, t=None):
     ev = evaluate(plan, geom, m, q, order=0, K=K, upto=k + 1, t=t)
-    disc, det = ev.diag[k]
+    return _masked_sine(*ev.diag[k]), ev
+
+
+def _masked_sine(disc: np.ndarray, det: np.ndarray) -> np.ndarray:
+    """|sine| of a dyad step, nan where it does not assemble."""
     s = np.abs(det)
     s[~np.isfinite(s) | (disc < -1e-12)] = np.nan
-    return s, ev
+    return s
 
 
 def _modes_at(K: dict, i: int) -> dict:
@@ -122,22 +126,28 @@ def track_branches(
     m: Mechanism,
     q: np.ndarray,
     t: np.ndarray | None = None,
+    first: Evaluation | None = None,
 ) -> tuple[dict[int, np.ndarray], list[BranchEvent]]:
     """Assembly mode per dyad step and frame, and the branch points met.
 
     With closure unknowns ``t`` (class III/IV plans) the modes are kept and events are
-    only reported (the closure fixes the branch by continuation).
+    only reported (the closure fixes the branch by continuation).  ``first``: an
+    evaluation with the reference modes on the same frames, reused until a mode flips.
     """
     F = q.shape[0]
     K: dict[int, np.ndarray] = {}
     events: list[BranchEvent] = []
     switchable = plan.unknowns == 0
+    flipped = False
     for k, s in enumerate(plan.steps):
         if s.kind not in ("RRR", "RRP", "RPR"):
             continue
         base_mode = reference_mode(plan, geom, k)
         K[k] = np.full(F, base_mode, dtype=np.int8)
-        sine, _ = _sine(plan, geom, m, q, K, k, t)
+        if first is not None and not flipped:
+            sine = _masked_sine(*first.diag[k])
+        else:
+            sine, _ = _sine(plan, geom, m, q, K, k, t)
         ok = np.isfinite(sine)
         i = 1
         while True:
@@ -162,6 +172,7 @@ def track_branches(
             if legal and _smoother_flipped(plan, geom, m, q, K, k, s.joint, start):
                 K[k][start:] *= -1
                 action = "switched"
+                flipped = True
                 sine, _ = _sine(plan, geom, m, q, K, k, t)
                 ok = np.isfinite(sine)
             events.append(BranchEvent(qstar, cand, k, s.joint, kind, smin, action))

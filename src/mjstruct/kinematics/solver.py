@@ -207,9 +207,11 @@ def kinematics(
                 f"closure did not converge to {tol:g} on {int(bad.sum())} frame(s) "
                 f"(first q = {qa[np.argmax(bad), 0]:.9g}); their values are null"
             )
-    K, events = track_branches(plan, geom, m, qa, t)
     with np.errstate(all="ignore"):
-        ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2, K=K)
+        ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2)
+        K, events = track_branches(plan, geom, m, qa, t, first=ev)
+        if any(e.action == "switched" for e in events):
+            ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2, K=K)
     result = _collect(m, plan, geom, qa, speed, ev)
     if plan.unknowns == 0 and ev.residuals:
         # redundant constraints: they must hold along the motion, else it stops there
