@@ -155,3 +155,25 @@ def test_closure_statistics_in_json(capsys):
     assert cl["max_error"] <= cl["tolerance"] and cl["iterations"] >= 1
     assert d["checks"]["link_lengths"]["max_error"] < 1e-10
     assert any("assume" in step for step in d["plan"]["steps"])
+
+
+def _no_nan(text: str):
+    def bad(token):
+        raise AssertionError(f"{token} in JSON")
+
+    return json.loads(text, parse_constant=bad)
+
+
+@pytest.mark.parametrize(
+    ("name", "extra"),
+    [
+        ("zhivago", ["--frames", "90"]),  # driver O: the crank only rocks, closure fails
+        ("slider-crank", ["--drivers", "O4", "--stroke", "-0.3", "--frames", "30"]),
+    ],
+)
+def test_json_is_strict_when_frames_fail(name, extra, capsys):
+    argv = ["kinematics", str(example_path(name)), "--json", *extra]
+    assert main(argv) == 0
+    d = _no_nan(capsys.readouterr().out)
+    assert d["warnings"]
+    assert any(x is None for x in d["joints"]["A"]["x"])
