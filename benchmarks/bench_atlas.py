@@ -1,0 +1,111 @@
+"""Atlas enumeration and canonical-code timings against the issue's targets.
+
+Run: ``python benchmarks/bench_atlas.py [--repeat R] [--pyslvs PYTHON]``.  Prints the
+median wall time of each case, the count found, and the ratio to the target; with
+``--pyslvs`` also times pyslvs's structural synthesis (run in that interpreter, e.g. a
+separate venv) on the same simple-joint cases, side by side in the same run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+
+from mjstruct.io import read_mechanism
+from mjstruct.structure.isomorphism import canonical_code
+from mjstruct.synthesis.atlas import atlas
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# (label, F, n, mj, workers, target seconds or None, expected count or None)
+CASES = [
+    ("F=1 n=10 SJ", 1, 10, False, 1, 5.0, 230),
+    ("F=1 n=12 SJ, 2 workers", 1, 12, False, 2, 60.0, 6856),
+    ("F=1 n=12 SJ, 1 worker", 1, 12, False, 1, None, 6856),
+    ("F=1 n=10 with MJs", 1, 10, True, 1, 60.0, None),
+    ("F=2 n=9 SJ", 2, 9, False, 1, None, 35),
+    ("F=2 n=9 with MJs", 2, 9, True, 1, None, None),
+]
+
+PYSLVS_SCRIPT = r"""
+import json, sys, time
+from pyslvs.graph import (link_synthesis, contracted_link_synthesis, contracted_graph,
+    conventional_graph, is_planar)
+nl, nj, dof, repeat = map(int, sys.argv[1:5])
+times, count, planar = [], 0, 0
+for _ in range(repeat):
+    t = time.perf_counter()
+    out = []
+    for la in link_synthesis(nl, nj, dof):
+        for cla in contracted_link_synthesis(la):
+            cg = contracted_graph(cla)
+            out.extend(conventional_graph(cg, cla, la))
+    times.append(time.perf_counter() - t)
+    count = len(out)
+    planar = sum(1 for g in out if is_planar(g))
+times.sort()
+print(json.dumps({"median": times[len(times) // 2], "count": count, "planar": planar}))
+"""
+
+
+def median_time(fn: Callable[[], object], repeat: int) -> tuple[float, object]:
+    times, result = [], None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        result = fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times), result
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--pyslvs", default=None, help="python interpreter that has pyslvs")
+    args = ap.parse_args()
+    print(f"{'case':<26} {'median s':>9} {'count':>7} {'target s':>9} {'target/median':>14}")
+    for label, F, n, mj, workers, target, expected in CASES:
+        t, a = median_time(partial(atlas, F, n, mj=mj, workers=workers), args.repeat)
+        count = a.count  # type: ignore[attr-defined]
+        ok = "" if expected is None or count == expected else f"  WRONG (expected {expected})"
+        ratio = f"{target / t:14.1f}" if target else f"{'-':>14}"
+        tgt = f"{target:9.1f}" if target else f"{'-':>9}"
+        print(f"{label:<26} {t:9.3f} {count:7d} {tgt} {ratio}{ok}")
+    m = read_mechanism(ROOT / "catalogs" / "examples" / "seed002-ex5-24-link.json")
+    reps = 200
+    t, _ = median_time(lambda: [canonical_code(m) for _ in range(reps)], 5)
+    per = t / reps * 1e3
+    print(f"{'canonical code, 24 links':<26} {per:8.3f}m {'':>7} {2.0:8.1f}m {2.0 / per:14.1f}")
+    if args.pyslvs:
+        print("\npyslvs structural synthesis, same simple-joint cases (side by side):")
+        print(f"{'case':<26} {'mjstruct s':>11} {'pyslvs s':>9} {'ratio':>7} {'counts':>14}")
+        for label, F, n, _mj, _w, _t, _expected in CASES:
+            if _mj or _w != 1:
+                continue
+            nj = (3 * (n - 1) - F) // 2
+            ours, a = median_time(partial(atlas, F, n), args.repeat)
+            proc = subprocess.run(
+                [args.pyslvs, "-c", PYSLVS_SCRIPT, str(n), str(nj), str(F), str(args.repeat)],
+                capture_output=True,
+                text=True,
+                timeout=3600,
+            )
+            if proc.returncode:
+                print(f"{label:<26} pyslvs failed: {proc.stderr.strip().splitlines()[-1:]}")
+                continue
+            r = json.loads(proc.stdout)
+            counts = f"{a.count}/{r['count']}"  # type: ignore[attr-defined]
+            print(
+                f"{label:<26} {ours:11.3f} {r['median']:9.3f} "
+                f"{r['median'] / ours:7.1f} {counts:>14}"
+            )
+
+
+if __name__ == "__main__":
+    sys.exit(main())
