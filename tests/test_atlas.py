@@ -192,3 +192,43 @@ def test_cli_atlas_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
 def test_cli_atlas_odd_size_is_empty(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["atlas", "--dof", "1", "--links", "7", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["count"] == 0
+
+
+def test_assur_atlas_small_groups() -> None:
+    from mjstruct.synthesis.assur_atlas import assur_atlas
+
+    assert [(g.klass, g.order) for g in assur_atlas(2)] == [(2, 2)]  # the dyad
+    # triad (class III, 3 external pairs) and the four-link contour group (class IV)
+    assert sorted((g.klass, g.order) for g in assur_atlas(4)) == [(3, 3), (4, 2)]
+
+
+def test_assur_atlas_groups_are_exact_and_distinct() -> None:
+    from mjstruct.synthesis.assur_atlas import assur_atlas
+
+    groups = assur_atlas(6)
+    assert len({g.canonical for g in groups}) == len(groups)
+    marked = []
+    for g in groups:
+        n, p, e = g.n, len(g.joints), g.order
+        assert 3 * n == 2 * (p + e)
+        assert len(set(g.external)) == e  # at most one external pair per link
+        # brute force: every proper subset of links keeps mobility >= 1 w.r.t. the ground
+        for r in range(1, n):
+            for s in itertools.combinations(range(n), r):
+                ps = sum(1 for a, b in g.joints if a in s and b in s)
+                es = sum(1 for x in g.external if x in s)
+                assert 3 * len(s) - 2 * (ps + es) >= 1
+                if r >= 2:
+                    assert 3 * (r - 1) - 2 * ps >= 1
+        h = nx.Graph([tuple(j) for j in g.joints] + [(x, "G") for x in g.external])
+        nx.set_node_attributes(h, {v: v == "G" for v in h}, "ground")
+        marked.append(h)
+    for a, b in itertools.combinations(marked, 2):
+        assert not nx.is_isomorphic(a, b, node_match=lambda x, y: x["ground"] == y["ground"])
+
+
+def test_cli_atlas_assur_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["atlas", "--assur", "--links", "4", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["count"] == 2
+    assert {g["class"] for g in out["groups"]} == {3, 4}

@@ -194,8 +194,13 @@ def _compositions(total: int, minima: list[int]) -> np.ndarray:
     return np.diff(bounds, axis=1) - 1 + np.asarray(minima, dtype=np.int64)
 
 
-def admissible_distributions(cg: ContractedGraph, binaries: np.ndarray) -> np.ndarray:
+def admissible_distributions(
+    cg: ContractedGraph, binaries: np.ndarray, threshold: int = 1
+) -> np.ndarray:
     """Mask of the rows of ``binaries`` (binary links per edge) giving admissible chains.
+
+    ``threshold`` is the least sub-chain mobility allowed (1: no rigid sub-chain; 0 is
+    a necessary condition for the minimal rigid structures behind Assur groups).
 
     Exact: the minimum sub-chain mobility over all link sets equals the minimum over
     vertex sets W of ``3|W_L| + 2|W_J| - 3 + Σ_{e in W} min(b_e - 2, 0)``, with one
@@ -221,7 +226,7 @@ def admissible_distributions(cg: ContractedGraph, binaries: np.ndarray) -> np.nd
         extra = cost[:, cols].min(axis=1) if len(cols) else np.full(len(b), big)
         fix = size[:, w] < 2
         mobility[fix, w] += extra[fix]
-    ok = (mobility >= 1).all(axis=1)
+    ok = (mobility >= threshold).all(axis=1)
     # a link may sit on a multiple joint only once: at most one direct L–J edge per pair
     seen: dict[tuple[int, int], list[int]] = {}
     for k, (u, v) in enumerate(cg.edges):
