@@ -15,7 +15,7 @@ Examples
 >>> m = Mechanism.build([("a", [0, 1]), ("b", [1, 2, 3]), ("c", [2, 0]), ("d", [3, 0])])
 >>> inv = seed_invariants(m)
 >>> inv.LA, inv.MJA, inv.mj_link_sets
-((3, 1), (1,), ((2, 2, 3),))
+((3, 1), (1,), ((2, 2, 2),))
 """
 
 from __future__ import annotations
