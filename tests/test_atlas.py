@@ -232,3 +232,21 @@ def test_cli_atlas_assur_json(capsys: pytest.CaptureFixture[str]) -> None:
     out = json.loads(capsys.readouterr().out)
     assert out["count"] == 2
     assert {g["class"] for g in out["groups"]} == {3, 4}
+
+
+def test_progress_bar_only_when_enabled() -> None:
+    import io
+
+    from mjstruct.synthesis.parallel import ProgressBar
+
+    quiet, loud = io.StringIO(), io.StringIO()
+    atlas(1, 8, progress=ProgressBar("x", enabled=False, stream=quiet))
+    atlas(1, 8, progress=ProgressBar("x", enabled=True, stream=loud))
+    assert quiet.getvalue() == ""
+    text = loud.getvalue()
+    assert text.endswith("\n") and "5/5 tasks" in text  # K = 3: five branch-vertex multisets
+
+
+def test_cli_atlas_json_is_quiet_on_stderr(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["atlas", "--links", "8", "--json"]) == 0
+    assert capsys.readouterr().err == ""
