@@ -19,7 +19,9 @@ from functools import partial
 from pathlib import Path
 
 from mjstruct.io import read_mechanism
+from mjstruct.mechanism import Mechanism
 from mjstruct.structure.isomorphism import canonical_code
+from mjstruct.synthesis.admissibility import is_admissible
 from mjstruct.synthesis.atlas import atlas
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -37,21 +39,20 @@ CASES = [
 PYSLVS_SCRIPT = r"""
 import json, sys, time
 from pyslvs.graph import (link_synthesis, contracted_link_synthesis, contracted_graph,
-    conventional_graph, is_planar)
-nl, nj, dof, repeat = map(int, sys.argv[1:5])
-times, count, planar = [], 0, 0
+    conventional_graph)
+nl, nj, repeat = map(int, sys.argv[1:4])
+times = []
 for _ in range(repeat):
     t = time.perf_counter()
     out = []
-    for la in link_synthesis(nl, nj, dof):
+    for la in link_synthesis(nl, nj):
+        cgs = contracted_graph(la)
         for cla in contracted_link_synthesis(la):
-            cg = contracted_graph(cla)
-            out.extend(conventional_graph(cg, cla, la))
+            out.extend(conventional_graph(cgs, cla, 1))  # 1: the non-degenerate chains
     times.append(time.perf_counter() - t)
-    count = len(out)
-    planar = sum(1 for g in out if is_planar(g))
 times.sort()
-print(json.dumps({"median": times[len(times) // 2], "count": count, "planar": planar}))
+edges = [list(map(list, g.edges)) for g in out]
+print(json.dumps({"median": times[len(times) // 2], "edges": edges}))
 """
 
 
@@ -68,6 +69,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--pyslvs", default=None, help="python interpreter that has pyslvs")
+    ap.add_argument("--pyslvs-max-links", type=int, default=12)
     args = ap.parse_args()
     print(f"{'case':<26} {'median s':>9} {'count':>7} {'target s':>9} {'target/median':>14}")
     for label, F, n, mj, workers, target, expected in CASES:
@@ -84,14 +86,17 @@ def main() -> None:
     print(f"{'canonical code, 24 links':<26} {per:8.3f}m {'':>7} {2.0:8.1f}m {2.0 / per:14.1f}")
     if args.pyslvs:
         print("\npyslvs structural synthesis, same simple-joint cases (side by side):")
-        print(f"{'case':<26} {'mjstruct s':>11} {'pyslvs s':>9} {'ratio':>7} {'counts':>14}")
+        print(
+            f"{'case':<26} {'mjstruct s':>11} {'pyslvs s':>9} {'ratio':>7} "
+            f"{'ours/theirs':>13} {'rigid':>5} {'missing':>7}"
+        )
         for label, F, n, _mj, _w, _t, _expected in CASES:
-            if _mj or _w != 1:
+            if _mj or _w != 1 or n > args.pyslvs_max_links:
                 continue
             nj = (3 * (n - 1) - F) // 2
             ours, a = median_time(partial(atlas, F, n), args.repeat)
             proc = subprocess.run(
-                [args.pyslvs, "-c", PYSLVS_SCRIPT, str(n), str(nj), str(F), str(args.repeat)],
+                [args.pyslvs, "-c", PYSLVS_SCRIPT, str(n), str(nj), str(args.repeat)],
                 capture_output=True,
                 text=True,
                 timeout=3600,
@@ -100,10 +105,16 @@ def main() -> None:
                 print(f"{label:<26} pyslvs failed: {proc.stderr.strip().splitlines()[-1:]}")
                 continue
             r = json.loads(proc.stdout)
-            counts = f"{a.count}/{r['count']}"  # type: ignore[attr-defined]
+            ours_codes = {c.canonical for c in a.chains}  # type: ignore[attr-defined]
+            theirs = [
+                Mechanism.build([(f"J{k}", e) for k, e in enumerate(es)]) for es in r["edges"]
+            ]
+            codes = {canonical_code(m) for m in theirs}
+            rigid = sum(not is_admissible(m) for m in theirs)
+            missing = len(ours_codes - codes)
             print(
-                f"{label:<26} {ours:11.3f} {r['median']:9.3f} "
-                f"{r['median'] / ours:7.1f} {counts:>14}"
+                f"{label:<26} {ours:11.3f} {r['median']:9.3f} {r['median'] / ours:7.1f} "
+                f"{len(ours_codes):>6}/{len(theirs):<6} {rigid:>5} {missing:>7}"
             )
 
 
