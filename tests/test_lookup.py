@@ -104,3 +104,24 @@ def test_lookup_bad_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> 
     p.write_text("{")
     assert main(["lookup", str(p)]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_lookup_canonical_matches_analyze(capsys: pytest.CaptureFixture[str]) -> None:
+    path = ROOT / "catalogs" / "examples" / "seed002-ex1-needle-drive.json"
+    assert main(["analyze", str(path), "--json"]) == 0
+    analyzed = json.loads(capsys.readouterr().out)
+    assert main(["lookup", str(path), "--json"]) == 0
+    found = json.loads(capsys.readouterr().out)
+    assert found["found"] and found["canonical"] == analyzed["canonical"]
+    assert found["code_star"] == analyzed["code_star"] and found["K"] == analyzed["K"]
+
+
+def test_scheduler_without_dask_is_a_clean_error(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # import fails as if absent
+    assert main(["atlas", "--links", "8", "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "dask" in err
