@@ -236,6 +236,8 @@ def lookup(m: Mechanism) -> LookupResult:
             f"not in catalog (shipped: F = 1 up to 10 links, F = 2 up to 9 links); "
             f"enumerate with `mjstruct atlas {flags}`"
         )
+        if m.n > 12:
+            reason += " (beyond about 12 links such an enumeration is very long)"
     return LookupResult(False, code, F, m.n, {}, reason)
 
 
