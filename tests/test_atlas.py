@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import random
 
 import networkx as nx
 import pytest
@@ -250,3 +251,50 @@ def test_progress_bar_only_when_enabled() -> None:
 def test_cli_atlas_json_is_quiet_on_stderr(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["atlas", "--links", "8", "--json"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def _random_chain(rng: random.Random, n: int, F: int) -> list[list[int]] | None:
+    """A random link–joint pairing with a random admissible-looking assortment
+    (configuration model); None when the pairing puts a link twice on a joint."""
+    from mjstruct.synthesis.cells import link_assortments, mj_assortments
+
+    K = (n - 1 - F) // 2
+    V = rng.randrange(0, 2 * K - 1)
+    mja = rng.choice(mj_assortments(K, V)) if V else ()
+    la = rng.choice(link_assortments(K, V, F))
+    degrees = [k + 2 for k, count in enumerate(la) for _ in range(count)]
+    sizes = [k + 3 for k, count in enumerate(mja) for _ in range(count)]
+    sizes += [2] * (n - 1 + K - sum(m - 1 for m in sizes))
+    stubs = [i for i, d in enumerate(degrees) for _ in range(d)]
+    assert len(stubs) == sum(sizes)
+    rng.shuffle(stubs)
+    joints, k = [], 0
+    for m in sizes:
+        joints.append(stubs[k : k + m])
+        k += m
+    return None if any(len(set(j)) < len(j) for j in joints) else joints
+
+
+@pytest.mark.parametrize(("F", "n"), [(1, 8), (2, 9), (1, 10)])
+def test_random_admissible_chains_are_in_the_atlas(F: int, n: int) -> None:
+    """Completeness by sampling: every admissible chain drawn at random is listed."""
+    from mjstruct.errors import MechanismError
+
+    known = {c.canonical: c for c in atlas(F, n, mj=True, fractionated=True).chains}
+    rng = random.Random(20261121 + n)
+    hits = 0
+    for _ in range(2500):
+        joints = _random_chain(rng, n, F)
+        if joints is None:
+            continue
+        try:
+            m = Mechanism.build([(f"J{k}", j) for k, j in enumerate(joints)])
+        except MechanismError:  # disconnected
+            continue
+        if not is_admissible(m):
+            continue
+        hits += 1
+        code = canonical_code(m)
+        assert code in known, joints
+        assert known[code].fractionated == is_fractionated(m)
+    assert hits >= 10
