@@ -52,7 +52,9 @@ class Closure:
     ``t``, ``t1``, ``t2``: the unknowns (frames × unknowns) and their first and second
     derivatives along the path; ``error`` the achieved closure error per frame (max
     |R|, in lengths); ``iterations`` the Newton iterations on the full frame set;
-    ``converged`` per-frame mask.
+    ``converged`` per-frame mask; ``jumps`` frames whose change of the unknowns from
+    the previous frame (frame 0: from the reference) disagrees with the integrated
+    derivative — a possible jump to another branch of the closure.
     """
 
     t: np.ndarray
@@ -62,6 +64,7 @@ class Closure:
     iterations: int
     converged: np.ndarray
     tol: float
+    jumps: tuple[int, ...] = ()
 
 
 def _jacobian(plan: Plan, geom: Geometry, m: Mechanism, q: np.ndarray, t: np.ndarray, K):
@@ -182,40 +185,78 @@ def close(
         t_cur, _, _, _ = newton(
             plan, geom, m, qs[None, :], t_cur, _subset_modes(K, np.array([0])), tol, maxiter
         )
-    # 2. stations along the frames, by arc length of the path in q; tangent prediction
+    # 2. stations along the path (by arc length in q, not only at frames): the step
+    # adapts so that every station agrees with the integrated tangent (no branch jump)
     seg = np.abs(np.diff(q, axis=0)).max(axis=1) if F > 1 else np.zeros(0)
     arc = np.concatenate([[0.0], np.cumsum(seg)])
-    stations = [0]
-    for i in range(1, F):
-        if arc[i] - arc[stations[-1]] >= STATION_STEP or i == F - 1:
-            # keep the station before a long jump too, so prediction spans one segment
-            if i > 1 and stations[-1] != i - 1 and arc[i] - arc[i - 1] >= STATION_STEP:
-                stations.append(i - 1)
-            stations.append(i)
-    T = np.zeros((len(stations), k))
-    D = np.zeros((len(stations), k))
-    good = np.zeros(len(stations), bool)
-    T[0], good[0] = t_cur[0], True
-    last = 0
-    for n, i in enumerate(stations):
+
+    def q_at(sv: float) -> np.ndarray:
+        return np.array([np.interp(sv, arc, q[:, c]) for c in range(q.shape[1])])
+
+    def frame_at(sv: float) -> int:
+        return int(min(np.searchsorted(arc, sv, side="right") - 1, F - 1))
+
+    T_last = t_cur[0]
+    D_last = _tangent(
+        plan, geom, m, q[:1], t_cur, _subset_modes(K, np.array([0])), _direction(q, 0)
+    )[0]
+    S, TT, DD = [0.0], [T_last], [np.where(np.isfinite(D_last), D_last, 0.0)]
+    s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
+    for _ in range(20000):
+        if s_last >= total:
+            break
+        s_new = min(s_last + step, total)
+        i = frame_at(s_new)
         Ks = _subset_modes(K, np.array([i]))
-        if n > 0:
-            guess = T[last] + D[last] * (arc[i] - arc[stations[last]])
-            tn, _, _, okn = newton(plan, geom, m, q[i : i + 1], guess[None, :], Ks, tol, maxiter)
-            good[n] = bool(okn[0])
-            T[n] = tn[0] if good[n] else T[last]
-        if good[n]:
-            d = _tangent(plan, geom, m, q[i : i + 1], T[n : n + 1], Ks, _direction(q, i))[0]
-            D[n] = np.where(np.isfinite(d), d, 0.0)
-            last = n
+        qn = q_at(s_new)[None, :]
+        ds = s_new - s_last
+        tn, _, _, okn = newton(
+            plan, geom, m, qn, (T_last + DD[-1] * ds)[None, :], Ks, tol, maxiter
+        )
+        Dn = None
+        if okn[0]:
+            Dn = _tangent(plan, geom, m, qn, tn, Ks, _direction(q, min(i, F - 2)))[0]
+            pred = 0.5 * (DD[-1] + Dn) * ds
+            fine = np.abs(tn[0] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
+        else:
+            fine = False
+        if fine or step <= 1e-4:
+            if okn[0] and Dn is not None:
+                T_last = tn[0]
+                S.append(s_new)
+                TT.append(T_last)
+                DD.append(np.where(np.isfinite(Dn), Dn, 0.0))
+            s_last = s_new  # a station that does not close is skipped (reported later)
+            step = min(2.0 * step, STATION_STEP)
+        else:
+            step *= 0.5
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
-    x = arc[np.array(stations)][good]
-    guess = _hermite(x, T[good], D[good], arc)
+    guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc)
     t, err, iters, ok = newton(plan, geom, m, q, guess, K, tol, maxiter)
     if not ok.all() and ok.any():
         _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter)
     t1, t2 = derivatives(plan, geom, m, q, t, rate, K)
-    return Closure(t, t1, t2, err, iters, ok, tol)
+    d0 = _tangent(
+        plan, geom, m, q_ref[None, :], np.zeros((1, k)), _subset_modes(K, np.array([0])), rate
+    )[0]
+    jumps = _jumps(q, q_ref, t, t1, d0, ok, rate)
+    return Closure(t, t1, t2, err, iters, ok, tol, jumps)
+
+
+def _jumps(q, q_ref, t, t1, d0, ok, rate) -> tuple[int, ...]:
+    """Frames where Δt disagrees with the trapezoid of t' along the path (branch jumps)."""
+    qs = np.vstack([q_ref[None, :], q])
+    ts = np.vstack([np.zeros((1, t.shape[1])), t])
+    ds = np.vstack([d0[None, :], t1])
+    good = np.concatenate([[True], ok])
+    # path parameter: dq/dτ = rate, so Δτ = Δq / rate (on the fastest driver)
+    j = int(np.abs(rate).argmax())
+    dtau = np.diff(qs[:, j]) / rate[j]
+    pred = 0.5 * (ds[:-1] + ds[1:]) * dtau[:, None]
+    real = np.diff(ts, axis=0)
+    bad = np.abs(real - pred).max(axis=1) > 0.1 * np.abs(pred).max(axis=1) + 1e-3
+    bad &= good[:-1] & good[1:]
+    return tuple(int(i) for i in np.flatnonzero(bad))
 
 
 def _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter) -> None:

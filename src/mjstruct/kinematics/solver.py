@@ -201,6 +201,13 @@ def kinematics(
         # frames that did not close carry no configuration (null, reported)
         t = np.where(sol.converged[:, None], sol.t, np.nan)
         t1, t2 = sol.t1, sol.t2
+        if sol.jumps:
+            i = sol.jumps[0]
+            warnings.append(
+                f"closure: the unknowns change faster than their derivative allows at "
+                f"{len(sol.jumps)} frame(s), first q = {qa[i, 0]:.9g}: possible jump to "
+                "another branch (a near-singular group or too coarse frames)"
+            )
         bad = ~sol.converged
         if bad.any():
             warnings.append(
