@@ -450,3 +450,15 @@ def test_inverted_slider_crank_rpr_dyad():
     assert r.valid.all() and r.warnings == []
     # the block turns with the rocker and stays on it
     assert np.abs(r.links["2"]["omega"] - r.links["3"]["omega"]).max() == 0
+
+
+def test_closure_jump_detector():
+    from mjstruct.kinematics.closure import _jumps
+
+    q = np.linspace(0.1, 1.0, 10)[:, None]
+    t1 = np.full((10, 1), 0.5)
+    t = 0.5 * q  # consistent with t' = 0.5 from t(0) = 0
+    ok = np.ones(10, bool)
+    assert _jumps(q, np.zeros(1), t, t1, np.array([0.5]), ok, np.ones(1)) == ()
+    t[6:] += 1.0  # another branch from frame 6 on
+    assert _jumps(q, np.zeros(1), t, t1, np.array([0.5]), ok, np.ones(1)) == (6,)
