@@ -151,15 +151,6 @@ def _subset_modes(K, idx: np.ndarray):
     return {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in K.items()}
 
 
-def _stations(q: np.ndarray, q_ref: np.ndarray) -> list[np.ndarray]:
-    """Points of a continuation path: from the reference to frame 0, then along the frames."""
-    pts: list[np.ndarray] = []
-    gap = float(np.abs(q[0] - q_ref).max())
-    n = int(np.ceil(gap / STATION_STEP))
-    pts += [q_ref + (q[0] - q_ref) * (i / n) for i in range(1, n + 1)] if n else [q[0]]
-    return pts
-
-
 def close(
     plan: Plan,
     geom: Geometry,
@@ -179,43 +170,46 @@ def close(
     F, k = q.shape[0], plan.unknowns
     q_ref = np.array([geom.driver_ref[d] for d in plan.drivers])
     rate = np.ones(q.shape[1]) if rates is None else np.asarray(rates, float)
-    # 1. continuation from the reference (t = 0 there) to frame 0
-    t_cur = np.zeros((1, k))
-    for qs in _stations(q, q_ref):
-        t_cur, _, _, _ = newton(
-            plan, geom, m, qs[None, :], t_cur, _subset_modes(K, np.array([0])), tol, maxiter
-        )
-    # 2. stations along the path (by arc length in q, not only at frames): the step
-    # adapts so that every station agrees with the integrated tangent (no branch jump)
-    seg = np.abs(np.diff(q, axis=0)).max(axis=1) if F > 1 else np.zeros(0)
+    # 1. continuation along the path reference -> frame 0 -> ... -> last frame, by arc
+    # length in q, with stations not tied to the frames; the step halves until each
+    # station agrees with the trapezoid of the tangent (no hop to another root)
+    tight = min(tol, 1e-10)  # stations are few: always close them tightly
+    path = np.vstack([q_ref[None, :], q])
+    seg = np.abs(np.diff(path, axis=0)).max(axis=1)
     arc = np.concatenate([[0.0], np.cumsum(seg)])
+    moving = np.flatnonzero(seg > 0)
 
     def q_at(sv: float) -> np.ndarray:
-        return np.array([np.interp(sv, arc, q[:, c]) for c in range(q.shape[1])])
+        return np.array([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])])
+
+    def direction(sv: float) -> np.ndarray:
+        if moving.size == 0:
+            return np.zeros(path.shape[1])
+        pos = int(np.searchsorted(arc[moving + 1], sv, side="left"))
+        j = int(moving[min(pos, moving.size - 1)])
+        d = path[j + 1] - path[j]
+        return d / np.abs(d).max()
 
     def frame_at(sv: float) -> int:
-        return int(min(np.searchsorted(arc, sv, side="right") - 1, F - 1))
+        return int(np.clip(np.searchsorted(arc, sv, side="right") - 2, 0, F - 1))
 
-    T_last = t_cur[0]
-    D_last = _tangent(
-        plan, geom, m, q[:1], t_cur, _subset_modes(K, np.array([0])), _direction(q, 0)
-    )[0]
-    S, TT, DD = [0.0], [T_last], [np.where(np.isfinite(D_last), D_last, 0.0)]
+    T_last = np.zeros(k)
+    K0 = _subset_modes(K, np.array([0]))
+    D0 = _tangent(plan, geom, m, q_ref[None, :], T_last[None, :], K0, direction(0.0))[0]
+    S, TT, DD = [0.0], [T_last], [np.where(np.isfinite(D0), D0, 0.0)]
     s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
     for _ in range(20000):
         if s_last >= total:
             break
         s_new = min(s_last + step, total)
-        i = frame_at(s_new)
-        Ks = _subset_modes(K, np.array([i]))
+        Ks = _subset_modes(K, np.array([frame_at(s_new)]))
         qn = q_at(s_new)[None, :]
         ds = s_new - s_last
-        tn, _, _, okn = newton(
-            plan, geom, m, qn, (T_last + DD[-1] * ds)[None, :], Ks, tol, maxiter
-        )
+        guess = (T_last + DD[-1] * ds)[None, :]
+        tn, _, _, okn = newton(plan, geom, m, qn, guess, Ks, tight, maxiter)
         Dn = None
         if okn[0]:
-            Dn = _tangent(plan, geom, m, qn, tn, Ks, _direction(q, min(i, F - 2)))[0]
+            Dn = _tangent(plan, geom, m, qn, tn, Ks, direction(s_new))[0]
             pred = 0.5 * (DD[-1] + Dn) * ds
             fine = np.abs(tn[0] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
         else:
@@ -231,7 +225,7 @@ def close(
         else:
             step *= 0.5
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
-    guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc)
+    guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc[1:])
     t, err, iters, ok = newton(plan, geom, m, q, guess, K, tol, maxiter)
     if not ok.all() and ok.any():
         _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter)
@@ -287,16 +281,6 @@ def _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter) -> None:
                 if good:
                     t[i], err[i], ok[i] = cur, en[0], True
                     break
-
-
-def _direction(q: np.ndarray, i: int) -> np.ndarray:
-    """dq/ds at frame i along the path (s: arc length in the max norm)."""
-    if q.shape[0] == 1:
-        return np.zeros(q.shape[1])
-    j = min(i, q.shape[0] - 2)
-    d = q[j + 1] - q[j]
-    n = np.abs(d).max()
-    return d / n if n > 0 else d
 
 
 def _tangent(plan, geom, m, q, t, K, rate) -> np.ndarray:
