@@ -11,6 +11,11 @@ from mjstruct.cli.main import COMMANDS
 ROOT = Path(__file__).resolve().parents[1]
 
 PUBLIC = [
+    "KinematicsResult",
+    "jacobian_at_reference",
+    "kinematics",
+    "plan_kinematics",
+    "read_geometry",
     "AssurGroup",
     "Decomposition",
     "DriverChoice",
@@ -55,7 +60,7 @@ PUBLIC = [
     "to_networkx",
 ]
 
-CLI = ["analyze", "assur", "iso", "kinematics"]
+CLI = ["analyze", "assur", "atlas", "cells", "iso", "kinematics", "lookup"]
 
 
 def test_public_names_pinned():

@@ -55,6 +55,11 @@ _EXPORTS: dict[str, str] = {
     "rigid_components": "mjstruct.structure.pebble",
     "rigidity": "mjstruct.structure.pebble",
     "plot_decomposition": "mjstruct.plot.assur",
+    "kinematics": "mjstruct.kinematics.solver",
+    "KinematicsResult": "mjstruct.kinematics.solver",
+    "plan_kinematics": "mjstruct.kinematics.planner",
+    "read_geometry": "mjstruct.kinematics.geometry",
+    "jacobian_at_reference": "mjstruct.kinematics.jacobian",
 }
 
 __all__ = sorted(_EXPORTS)
