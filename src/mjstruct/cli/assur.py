@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.cli.output import driver_list, emit_json, emit_text
 from mjstruct.errors import MechanismError
 
 
@@ -58,13 +58,7 @@ def run(args: argparse.Namespace) -> int:
     if args.any_joint and not args.all_choices:
         raise MechanismError("--any-joint goes with --all-choices")
     m = read_mechanism(args.file)
-    drivers = None
-    if args.drivers is not None:
-        drivers = [d.strip() for d in args.drivers.split(",") if d.strip()]
-        known = {j.id for j in m.joints}
-        for d in drivers:
-            if d not in known:
-                raise MechanismError(f"--drivers: {d!r} is not a joint id")
+    drivers = driver_list(args.drivers, m)
     if not args.all_choices and not (drivers or m.drivers):
         raise MechanismError(
             "drivers: the file names no drivers; give --drivers J1,J2 or --all-choices"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.cli.output import driver_list, emit_json, emit_text
 from mjstruct.errors import MechanismError
 
 
@@ -35,13 +35,7 @@ def run(args: argparse.Namespace) -> int:
     if not 0 < args.tol < 1:
         raise MechanismError(f"--tol: must be in (0, 1), got {args.tol}")
     m = read_mechanism(args.file)
-    drivers = None
-    if args.drivers is not None:
-        drivers = [d.strip() for d in args.drivers.split(",") if d.strip()]
-        known = {j.id for j in m.joints}
-        for d in drivers:
-            if d not in known:
-                raise MechanismError(f"--drivers: {d!r} is not a joint of {args.file}")
+    drivers = driver_list(args.drivers, m)
     r = kinematics(
         m, drivers=drivers, frames=args.frames, speed=args.speed, stroke=args.stroke, tol=args.tol
     )

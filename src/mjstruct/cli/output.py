@@ -1,4 +1,5 @@
-"""Writing a command's result: one JSON object, or text, on standard output.
+"""Writing a command's result (one JSON object, or text, on standard output) and reading
+the arguments several commands share.
 
 JSON is indented by object, with every list of plain values kept on one line, so that
 long numeric columns (kinematics) stay compact and reports stay readable.
@@ -18,7 +19,12 @@ from __future__ import annotations
 
 import json
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+from mjstruct.errors import MechanismError
+
+if TYPE_CHECKING:
+    from mjstruct.mechanism import Mechanism
 
 
 def dumps(obj: Any, level: int = 0) -> str:
@@ -44,3 +50,15 @@ def emit_json(obj: Any) -> None:
 
 def emit_text(text: str) -> None:
     sys.stdout.write(text.rstrip("\n") + "\n")
+
+
+def driver_list(text: str | None, m: Mechanism) -> list[str] | None:
+    """``--drivers J1,J2`` as joint ids of ``m`` (None when the option was not given)."""
+    if text is None:
+        return None
+    drivers = [d.strip() for d in text.split(",") if d.strip()]
+    known = {j.id for j in m.joints}
+    for d in drivers:
+        if d not in known:
+            raise MechanismError(f"--drivers: {d!r} is not a joint id")
+    return drivers
