@@ -125,3 +125,21 @@ def test_scheduler_without_dask_is_a_clean_error(
     assert main(["atlas", "--links", "8", "--scheduler", "tcp://127.0.0.1:1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "dask" in err
+
+
+def test_index_falls_back_to_temp_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import tempfile
+
+    from mjstruct.synthesis import catalog
+
+    blocker = tmp_path / "not-a-dir"
+    blocker.write_text("")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
+    monkeypatch.setenv("HOME", str(blocker))
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    path = catalog.index_path()
+    assert path.is_file() and path.parent.parent == tmp_path / "tmp"
+    assert catalog.query("SELECT count(*) AS c FROM chains")[0]["c"] == sum(
+        len(read_catalog(F, n)) for F, n in SHIPPED
+    )
