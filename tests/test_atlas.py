@@ -298,3 +298,37 @@ def test_random_admissible_chains_are_in_the_atlas(F: int, n: int) -> None:
         assert code in known, joints
         assert known[code].fractionated == is_fractionated(m)
     assert hits >= 10
+
+
+def test_fast_admissibility_equals_brute_force_per_distribution() -> None:
+    """The contracted-graph test against the brute-force rule on every expanded chain."""
+    from mjstruct.errors import MechanismError
+    from mjstruct.synthesis.atlas import (
+        _compositions,
+        _edge_minimum,
+        admissible_distributions,
+        expand,
+    )
+    from mjstruct.synthesis.contracted import contracted_graphs, degree_sequences
+
+    checked = 0
+    for K, frac in ((2, True), (3, False), (3, True), (4, False)):
+        for seq in degree_sequences(K, mj=True):
+            for cg in contracted_graphs(seq, frac)[:4]:
+                minima = [_edge_minimum(cg, u, v) for u, v in cg.edges]
+                n_branch = sum(c == "L" for c in cg.colours)
+                for extra in range(4):
+                    dist = _compositions(extra + (n_branch == 0), minima)
+                    if not len(dist):
+                        continue
+                    mask = admissible_distributions(cg, dist)
+                    for row, ok in zip(dist.tolist(), mask.tolist(), strict=True):
+                        _, joints = expand(cg, row)
+                        try:
+                            m = Mechanism.build([(f"J{k}", j) for k, j in enumerate(joints)])
+                            truth = is_admissible(m)
+                        except MechanismError:  # a link twice on one joint
+                            truth = False
+                        assert ok == truth, (cg, row)
+                        checked += 1
+    assert checked > 5000

@@ -194,6 +194,38 @@ def _compositions(total: int, minima: list[int]) -> np.ndarray:
     return np.diff(bounds, axis=1) - 1 + np.asarray(minima, dtype=np.int64)
 
 
+_CHUNK = 2048  # rows of distributions tested at once (bounds memory)
+
+
+def _connected_subsets(cg: ContractedGraph) -> list[int]:
+    """Vertex sets W (bitmasks) whose edges inside W connect W and that hold an edge.
+
+    Enough for the admissibility test: the mobility of a disconnected W is the sum of
+    its parts' plus 3 per extra part, and a part holding at most one link has
+    mobility >= -1, so a rigid disconnected W always contains a rigid connected part.
+    """
+    nbr = [0] * cg.order
+    for u, v in cg.edges:
+        nbr[u] |= 1 << v
+        nbr[v] |= 1 << u
+    out = []
+    for w in range(1, 1 << cg.order):
+        if not any(w >> u & 1 and w >> v & 1 for u, v in cg.edges):
+            continue
+        seen = w & -w
+        frontier = seen
+        while frontier:
+            grow = 0
+            for u in range(cg.order):
+                if frontier >> u & 1:
+                    grow |= nbr[u]
+            frontier = grow & w & ~seen
+            seen |= frontier
+        if seen == w:
+            out.append(w)
+    return out
+
+
 def admissible_distributions(
     cg: ContractedGraph, binaries: np.ndarray, threshold: int = 1
 ) -> np.ndarray:
@@ -206,27 +238,33 @@ def admissible_distributions(
     vertex sets W of ``3|W_L| + 2|W_J| - 3 + Σ_{e in W} min(b_e - 2, 0)``, with one
     edge of b_e >= 3 added when W alone holds fewer than two links.
     """
-    nv, ne = cg.order, len(cg.edges)
-    subsets = np.arange(1, 1 << nv)
+    nv = cg.order
+    subsets = np.array(_connected_subsets(cg), dtype=np.int64)
     bits = (subsets[:, None] >> np.arange(nv)[None, :]) & 1
     is_link = np.array([c == "L" for c in cg.colours])
     n_links = bits[:, is_link].sum(axis=1)
-    base = 3 * n_links + 2 * bits[:, ~is_link].sum(axis=1) - 3
-    inside = np.array(
-        [[(w >> u) & 1 and (w >> v) & 1 for u, v in cg.edges] for w in subsets], dtype=np.int64
-    ).reshape(len(subsets), ne)
-    b = binaries
-    mobility = base[None, :] + np.minimum(b - 2, 0) @ inside.T
-    size = n_links[None, :] + np.where(b <= 2, b, 0) @ inside.T
+    base = (3 * n_links + 2 * bits[:, ~is_link].sum(axis=1) - 3).astype(np.float64)
+    us = [u for u, _ in cg.edges]
+    vs = [v for _, v in cg.edges]
+    inside = bits[:, us] & bits[:, vs]  # (subset, edge): both ends in W
+    inside_t = inside.T.astype(np.float64)  # float matmul goes through BLAS; values exact
     short = np.nonzero(n_links <= 1)[0]
-    big = 1 << 20
-    cost = np.where(b >= 3, b - 2, big)
-    for w in short:
-        cols = np.nonzero(inside[w])[0]
-        extra = cost[:, cols].min(axis=1) if len(cols) else np.full(len(b), big)
-        fix = size[:, w] < 2
-        mobility[fix, w] += extra[fix]
-    ok = (mobility >= threshold).all(axis=1)
+    big = 1e9
+    penalty = np.where(inside[short], 0.0, big)  # only edges inside W may be added
+    b = binaries
+    ok = np.empty(len(b), dtype=bool)
+    for start in range(0, len(b), _CHUNK):
+        bb = b[start : start + _CHUNK]
+        mobility = base[None, :] + np.minimum(bb - 2, 0).astype(np.float64) @ inside_t
+        if len(short):
+            size = (
+                n_links[None, short]
+                + np.where(bb <= 2, bb, 0).astype(np.float64) @ (inside_t[:, short])
+            )
+            cost = np.where(bb >= 3, bb - 2, big).astype(np.float64)
+            extra = (cost[:, None, :] + penalty[None, :, :]).min(axis=2)
+            mobility[:, short] += np.where(size < 2, extra, 0.0)
+        ok[start : start + _CHUNK] = (mobility >= threshold).all(axis=1)
     # a link may sit on a multiple joint only once: at most one direct L–J edge per pair
     seen: dict[tuple[int, int], list[int]] = {}
     for k, (u, v) in enumerate(cg.edges):
