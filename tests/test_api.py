@@ -11,6 +11,17 @@ from mjstruct.cli.main import COMMANDS
 ROOT = Path(__file__).resolve().parents[1]
 
 PUBLIC = [
+    "Atlas",
+    "Chain",
+    "assur_atlas",
+    "atlas",
+    "cells",
+    "code_counts",
+    "familiar_name",
+    "is_admissible",
+    "lookup",
+    "rigid_subchain",
+    "seed_invariants",
     "KinematicsResult",
     "jacobian_at_reference",
     "kinematics",

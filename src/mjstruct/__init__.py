@@ -60,6 +60,17 @@ _EXPORTS: dict[str, str] = {
     "plan_kinematics": "mjstruct.kinematics.planner",
     "read_geometry": "mjstruct.kinematics.geometry",
     "jacobian_at_reference": "mjstruct.kinematics.jacobian",
+    "atlas": "mjstruct.synthesis.atlas",
+    "Atlas": "mjstruct.synthesis.atlas",
+    "Chain": "mjstruct.synthesis.atlas",
+    "assur_atlas": "mjstruct.synthesis.assur_atlas",
+    "cells": "mjstruct.synthesis.cells",
+    "code_counts": "mjstruct.synthesis.cells",
+    "lookup": "mjstruct.synthesis.catalog",
+    "is_admissible": "mjstruct.synthesis.admissibility",
+    "rigid_subchain": "mjstruct.synthesis.admissibility",
+    "familiar_name": "mjstruct.synthesis.names",
+    "seed_invariants": "mjstruct.structure.invariants",
 }
 
 __all__ = sorted(_EXPORTS)
