@@ -231,7 +231,11 @@ def lookup(m: Mechanism) -> LookupResult:
         )
         reason = f"not in catalog: the catalog of F = {F}, n = {m.n} is complete and {why}"
     else:
-        flags = f"--dof {F} --links {m.n} --mj --fractionated"
+        from mjstruct.synthesis.admissibility import is_fractionated
+
+        flags = f"--dof {F} --links {m.n}"
+        flags += " --mj" if any(j.is_multiple for j in m.joints) else ""
+        flags += " --fractionated" if is_fractionated(m) else ""
         reason = (
             f"not in catalog (shipped: F = 1 up to 10 links, F = 2 up to 9 links); "
             f"enumerate with `mjstruct atlas {flags}`"
