@@ -13,11 +13,7 @@ from __future__ import annotations
 
 import argparse
 import random
-import statistics
 import sys
-import time
-from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 
@@ -27,15 +23,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import assur_groups, random_mechanism
 from mjstruct.structure.generic_mobility import generic_mobility
 from mjstruct.structure.pebble import pebble_rank
-
-
-def median_time(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    times, out = [], None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times), out
+from timing import median_time
 
 
 def mechanism_with_links(n_links: int, seed: int = 1, mj: float = 0.3) -> Mechanism:
@@ -134,7 +122,12 @@ def main(argv: list[str] | None = None) -> int:
     )
     if not args.no_numeric:
         t, nr = median_time(lambda: jacobian_rank(m1000), 1)
-        line("  numeric Jacobian rank (SVD), same chain", t, None, f"rank {nr}")
+        line(
+            f"numeric Jacobian rank (SVD), the {m1000.n}-link chain with MJs",
+            t,
+            None,
+            f"rank {nr}",
+        )
         print(f"pebble game / SVD time ratio at {m1000.n} links: {t_pebble / t:.4f}")
     return 0
 

@@ -10,11 +10,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import statistics
 import subprocess
 import sys
-import time
-from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 
@@ -23,6 +20,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.synthesis.admissibility import is_admissible
 from mjstruct.synthesis.atlas import atlas
+from timing import median_time
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -54,15 +52,6 @@ times.sort()
 edges = [list(map(list, g.edges)) for g in out]
 print(json.dumps({"median": times[len(times) // 2], "edges": edges}))
 """
-
-
-def median_time(fn: Callable[[], object], repeat: int) -> tuple[float, object]:
-    times, result = [], None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times), result
 
 
 def main() -> None:

@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import statistics
-import time
 
 import numpy as np
 
@@ -25,25 +23,9 @@ from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.geometry import read_geometry
 from mjstruct.kinematics.planner import plan_kinematics
 from mjstruct.kinematics.solver import kinematics
+from timing import median_time, race
 
 FRAMES = 3600
-
-
-def median_time(fn, repeat: int) -> float:
-    return race([fn], repeat)[0]
-
-
-def race(fns, repeat: int) -> list[float]:
-    """Medians of the functions run in rotation (the machine's load hits all alike)."""
-    for fn in fns:
-        fn()  # warm up
-    out: list[list[float]] = [[] for _ in fns]
-    for _ in range(repeat):
-        for k, fn in enumerate(fns):
-            t0 = time.perf_counter()
-            fn()
-            out[k].append(time.perf_counter() - t0)
-    return [statistics.median(x) for x in out]
 
 
 def four_bar_closed_form(th: np.ndarray, a: float, b: float, c: float, d: float, mode: int):
@@ -105,11 +87,11 @@ def main() -> None:
         ],
         R,
     )
-    t_checks = median_time(lambda: kinematics(m, frames=FRAMES), max(3, R // 3))
+    t_checks = median_time(lambda: kinematics(m, frames=FRAMES), max(3, R // 3))[0]
 
     m4 = read_mechanism(example_path("class-iv-seed003"))
-    t_iv = median_time(lambda: kinematics(m4, frames=FRAMES, checks=False), max(3, R // 3))
-    t_iv_checks = median_time(lambda: kinematics(m4, frames=FRAMES), max(3, R // 3))
+    t_iv = median_time(lambda: kinematics(m4, frames=FRAMES, checks=False), max(3, R // 3))[0]
+    t_iv_checks = median_time(lambda: kinematics(m4, frames=FRAMES), max(3, R // 3))[0]
 
     print(f"four-bar, {FRAMES} frames, positions + sigma + kappa (median of {R})")
     print(f"  hand-written numpy closed form       {t_closed * 1e3:8.3f} ms   1.00x")
@@ -143,7 +125,7 @@ def main() -> None:
         print(f"pylinkage {getattr(pl, '__version__', '?')}: API not recognised, not timed")
         return
     t_pl, diff = got
-    t_pos = median_time(lambda: evaluate(p, g, m, q, order=0), R)
+    t_pos = median_time(lambda: evaluate(p, g, m, q, order=0), R)[0]
     print(
         f"pylinkage {getattr(pl, '__version__', '?')}, same four-bar, positions only "
         f"(max |B - ours| {diff:.1e})"
@@ -179,7 +161,7 @@ def _pylinkage_four_bar(pl, a, b, c, d, A0, B0, R) -> tuple[float, float] | None
         return None
     # its frames start one step after the reference; compare B with ours on that sweep
     xs = np.array([complex(*fr[-1]) for fr in pts])
-    return median_time(run, max(3, R // 3)), float(np.abs(xs - _our_B(a, b, c, d, th0)).max())
+    return median_time(run, max(3, R // 3))[0], float(np.abs(xs - _our_B(a, b, c, d, th0)).max())
 
 
 def _our_B(a, b, c, d, th0) -> np.ndarray:

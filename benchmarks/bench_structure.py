@@ -11,11 +11,8 @@ Run: ``python benchmarks/bench_structure.py``
 from __future__ import annotations
 
 import random
-import statistics
 import subprocess
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 from mjstruct.io import read_mechanism
@@ -23,23 +20,14 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.report import structural_report
 from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.structure.loops import loop_assortment
+from timing import median_time
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "catalogs" / "examples"
 
 
-def median_time(fn: Callable[[], object], repeat: int = 7, number: int = 1) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        times.append((time.perf_counter() - t0) / number)
-    return statistics.median(times)
-
-
 def process_time(argv: list[str], repeat: int = 7) -> float:
-    return median_time(lambda: subprocess.run(argv, check=True, capture_output=True), repeat)
+    return median_time(lambda: subprocess.run(argv, check=True, capture_output=True), repeat)[0]
 
 
 def random_chain(n_links: int, seed: int, mj_share: float = 0.15) -> Mechanism:
@@ -122,10 +110,10 @@ def main() -> None:
             # a fresh Mechanism each call: no cached adjacency carried over
             structural_report(Mechanism(links=m.links, joints=m.joints), with_loops=with_loops)
 
-        t_core = median_time(lambda report=report: report(False), repeat=5, number=3)
-        t_full = median_time(lambda report=report: report(True), repeat=5, number=1)
-        t_loops = median_time(lambda m=m: loop_assortment(m), repeat=5, number=1)
-        t_canon = median_time(lambda m=m: canonical_code(m), repeat=5, number=5)
+        t_core = median_time(lambda report=report: report(False), repeat=5, number=3)[0]
+        t_full = median_time(lambda report=report: report(True), repeat=5, number=1)[0]
+        t_loops = median_time(lambda m=m: loop_assortment(m), repeat=5, number=1)[0]
+        t_canon = median_time(lambda m=m: canonical_code(m), repeat=5, number=5)[0]
         la = loop_assortment(m)
         rule = la.rule if la else "not planar"
         print(

@@ -13,23 +13,13 @@ Run: ``python benchmarks/error_vs_time.py [--plot docs/img/kin-error-vs-time.png
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 
 import numpy as np
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics.solver import kinematics
-
-
-def timed(fn, repeat: int = 5):
-    out, res = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        res = fn()
-        out.append(time.perf_counter() - t0)
-    return statistics.median(out), res
+from timing import median_time
 
 
 def slider_exact(th: np.ndarray, w: float) -> tuple[np.ndarray, np.ndarray]:
@@ -57,7 +47,7 @@ def main() -> None:
     print(f"{'tol':>8} {'error |DE|-l (m)':>18} {'iterations':>10} {'time (s)':>9}")
     clos = []
     for tol in (1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14):
-        t, r = timed(lambda tol=tol: kinematics(m4, frames=3600, tol=tol, checks=False), 3)
+        t, r = median_time(lambda tol=tol: kinematics(m4, frames=3600, tol=tol, checks=False), 3)
         D = r.joints["D"]["x"] + 1j * r.joints["D"]["y"]
         E = r.joints["E"]["x"] + 1j * r.joints["E"]["y"]
         err = float(np.nanmax(np.abs(np.abs(E - D) - 0.554)))
@@ -76,7 +66,7 @@ def main() -> None:
     )
     ana, fdp = [], []
     for n in (36, 360, 3600, 36000):
-        t, r = timed(lambda n=n: kinematics(m1, frames=n, speed=w, checks=False), 3)
+        t, r = median_time(lambda n=n: kinematics(m1, frames=n, speed=w, checks=False), 3)
         th = r.q[:, 0]
         _, v = slider_exact(th, w)
         e_an = float(np.abs(r.joints["B"]["vx"] - v).max())

@@ -1,0 +1,33 @@
+"""Timing shared by the benchmark scripts: medians of repeats, and races that run
+several functions in rotation so the shared machine's load hits them alike."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+
+def median_time(fn: Callable[[], Any], repeat: int = 5, number: int = 1) -> tuple[float, Any]:
+    """Median seconds per call over ``repeat`` runs of ``number`` calls, and the last result."""
+    times, result = [], None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        for _ in range(number):
+            result = fn()
+        times.append((time.perf_counter() - t0) / number)
+    return statistics.median(times), result
+
+
+def race(fns: Sequence[Callable[[], Any]], repeat: int) -> list[float]:
+    """Median seconds of each function, run in rotation after one warm-up call each."""
+    for fn in fns:
+        fn()
+    out: list[list[float]] = [[] for _ in fns]
+    for _ in range(repeat):
+        for k, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            fn()
+            out[k].append(time.perf_counter() - t0)
+    return [statistics.median(x) for x in out]
