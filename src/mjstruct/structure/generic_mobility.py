@@ -31,6 +31,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.assortments import simple_joint_count
+from mjstruct.structure.mobility import dof_grubler
 from mjstruct.structure.pebble import _chain_joints, _play, body_components
 
 
@@ -118,8 +120,8 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
     index = {x: k for k, x in enumerate(m.links)}
     joints = _chain_joints(m, index)
     game, _, res = _play(m.links, joints)
-    p = sum(j.multiplicity for j in m.joints)
-    F_formula = 3 * (m.n - 1) - 2 * p
+    p = simple_joint_count(m)
+    F_formula = dof_grubler(m.n, p)
     comps = [
         tuple(m.links[w] for w in c) for c in body_components(game, m.n, joints) if len(c) >= 2
     ]

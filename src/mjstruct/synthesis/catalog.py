@@ -214,10 +214,10 @@ def lookup(m: Mechanism) -> LookupResult:
     """Find the chain of ``m`` in the shipped catalogs by its chain-level canonical code."""
     from mjstruct.structure.assortments import simple_joint_count
     from mjstruct.structure.isomorphism import canonical_code
+    from mjstruct.structure.mobility import dof_grubler
 
     code = canonical_code(m, "chain")
-    K = simple_joint_count(m) - m.n + 1
-    F = m.n - 1 - 2 * K
+    F = dof_grubler(m.n, simple_joint_count(m))
     rows = query("SELECT * FROM chains WHERE canonical = ?", (code,))
     if rows:
         return LookupResult(True, code, F, m.n, rows[0])
