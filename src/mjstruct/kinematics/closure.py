@@ -198,6 +198,7 @@ def close(
     D0 = _tangent(plan, geom, m, q_ref[None, :], T_last[None, :], K0, direction(0.0))[0]
     S, TT, DD = [0.0], [T_last], [np.where(np.isfinite(D0), D0, 0.0)]
     s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
+    lost = False  # True while the stations do not close (outside the feasible range)
     for _ in range(20000):
         if s_last >= total:
             break
@@ -214,14 +215,20 @@ def close(
             fine = np.abs(tn[0] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
         else:
             fine = False
-        if fine or step <= 1e-4:
+        if fine or step <= 1e-4 or (lost and not okn[0]):
             if okn[0] and Dn is not None:
                 T_last = tn[0]
                 S.append(s_new)
                 TT.append(T_last)
                 DD.append(np.where(np.isfinite(Dn), Dn, 0.0))
-            s_last = s_new  # a station that does not close is skipped (reported later)
-            step = min(2.0 * step, STATION_STEP)
+                lost = False
+                step = min(2.0 * step, STATION_STEP)
+            else:
+                # a station that does not close is skipped (reported later); past the
+                # edge of the feasible range stride on at the full step, not by crawling
+                lost = True
+                step = STATION_STEP
+            s_last = s_new
         else:
             step *= 0.5
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
