@@ -55,8 +55,9 @@ def render(r: KinematicsResult) -> str:
     if "analogs_vs_differences" in ch:
         a = ch["analogs_vs_differences"]
         out.append(
-            f"check analogs vs central differences (step {a['step']:.3g}): max error "
-            f"{a['max_error']:.3g} (largest analog {a['max_analog']:.3g})"
+            f"check analogs vs five-point differences (step {a['step']:.3g}): max error "
+            f"{a['max_error']:.3g} at q = {a['q_of_max_error']:.6g} "
+            f"(largest analog {a['max_analog']:.3g})"
         )
     if "jacobian" in ch:
         j = ch["jacobian"]
