@@ -37,6 +37,7 @@ from mjstruct.kinematics.triangles import (
     circle_line,
     distance_residual,
     guide_pair,
+    line_line,
     rotation_between,
 )
 from mjstruct.mechanism import Mechanism
@@ -193,6 +194,40 @@ def evaluate(
             ev.diag[k] = (disc, det)
             place(b, Pose(z1, P1, r, w))
             place(c, Pose(z2, P2, r, list(w)))
+        elif s.kind == "PRP":
+            # two sliders, each on a guide of a placed link, pinned together at X
+            b, c = s.links
+            zX = C[s.joint]
+            pb, pc = (poses[_other(m, g, x)] for g, x in zip(s.inputs, s.links, strict=True))
+            X, disc, det = line_line(
+                pb.point(zX),
+                pb.vector(1j * geom.axes[s.inputs[0]]),
+                pc.point(zX),
+                pc.vector(1j * geom.axes[s.inputs[1]]),
+                order,
+            )
+            ev.diag[k] = (disc, det)
+            place(b, Pose(zX, X, pb.r, list(pb.w)))
+            place(c, Pose(zX, X, pc.r, list(pc.w)))
+            first[s.joint] = b
+            ev.solved[s.joint] = X
+        elif s.kind == "RPP":
+            # link b (known centre) slides in c, which slides on a guide of link `base`:
+            # both keep base's rotation; c's image of the inner joint's point is on both
+            # guides (the one carried by b, the one carried by base)
+            b, c = s.links
+            base = poses[s.base]
+            zJ, z1 = C[s.joint], C[s.inputs[0]]
+            place(b, Pose(z1, centre(s.inputs[0]), base.r, list(base.w)))
+            X, disc, det = line_line(
+                poses[b].point(zJ),
+                base.vector(1j * geom.axes[s.joint]),
+                base.point(zJ),
+                base.vector(1j * geom.axes[s.inputs[1]]),
+                order,
+            )
+            ev.diag[k] = (disc, det)
+            place(c, Pose(zJ, X, base.r, list(base.w)))
         elif s.kind == "place":
             P, Q = centre(s.inputs[0]), centre(s.inputs[1])
             r, w = rotation_between(P, Q, C[s.inputs[0]], C[s.inputs[1]])
@@ -211,6 +246,11 @@ def evaluate(
     if plan.reference != plan.frame and plan.frame in poses and upto is None:
         _to_frame(ev, plan.frame)
     return ev
+
+
+def _other(m: Mechanism, joint: str, link: str) -> str:
+    """The other link of a two-link joint."""
+    return next(x for x in m.joint(joint).links if x != link)
 
 
 def reference_mode(plan: Plan, geom: Geometry, k: int) -> int:

@@ -50,11 +50,22 @@ STEP_KINDS = {
     "{joint} on the guide {inputs[1]} of link {base} (one right triangle)",
     "RPR": "dyad RPR: links {links[0]}, {links[1]} from centres {inputs[0]}, {inputs[1]} "
     "slide on each other at {joint} (one right triangle)",
+    "PRP": "dyad PRP: sliders {links[0]}, {links[1]} on the guides {inputs[0]}, {inputs[1]} "
+    "meet at {joint} (line–line intersection: one right triangle)",
+    "RPP": "dyad RPP: link {links[0]} from centre {inputs[0]} slides at {joint} in link "
+    "{links[1]}, which slides on the guide {inputs[1]} of link {base} (line–line "
+    "intersection: one right triangle)",
     "place": "link {links[0]} placed by its known centres {inputs[0]}, {inputs[1]}",
     "close-distance": "closure: |{inputs[0]}{inputs[1]}| on link {links[0]} must equal its length",
     "close-point": "closure: centre {joint} from link {links[0]} must coincide with link "
     "{links[1]}'s",
 }
+
+
+#: steps counted as right triangles (a guide takes part)
+LINE_KINDS = ("RRP", "RPR", "PRP", "RPP")
+#: |sine| between two guides of a dyad PRP / RPP at the reference below this: parallel
+PARALLEL_REF = 1e-9
 
 
 @dataclass(frozen=True)
@@ -109,14 +120,15 @@ class Plan:
     def complexity(self) -> dict[str, int]:
         """Triangles of the seed's rule: ``general`` and ``right`` ones, and closure unknowns.
 
-        A dyad RRR is one general triangle, a dyad RRP one right triangle; finding the
+        A dyad RRR is one general triangle, a dyad RRP, RPR, PRP or RPP one right triangle
+        (the last two intersect two guides: linear, no assembly mode); finding the
         dyad's base side across already placed links costs one triangle per
         intermediate joint (seed 000: the crank's right triangle of the slider-crank).
         ``checks``: triangles that find a base again along another shortest path (seed
         000's Zhivago count, 7, is ``general + checks``).
         """
         general = sum(1 + s.diagonal for s in self.steps if s.kind == "RRR")
-        right = sum(1 + s.diagonal for s in self.steps if s.kind in ("RRP", "RPR"))
+        right = sum(1 + s.diagonal for s in self.steps if s.kind in LINE_KINDS)
         checks = sum(s.checks for s in self.steps)
         return {"general": general, "right": right, "checks": checks, "unknowns": self.unknowns}
 
@@ -300,6 +312,97 @@ def _propagate(st: _State, drivers: tuple[str, ...], allowed: set[str] | None = 
             st.place(c, step, kc)
             progress = True
             break
+        if progress:
+            continue
+        # PRP / RPP: two prismatic pairs, the solved point on two guides
+        progress = _prismatic_dyads(st, drivers, free)
+
+
+def _prismatic_dyads(st: _State, drivers: tuple[str, ...], free: list[str]) -> bool:
+    """Place one dyad PRP or RPP (two prismatic pairs: a line–line intersection)."""
+    m = st.m
+
+    def open_(link: str) -> bool:
+        return link in free and link not in st.placed
+
+    # PRP: two sliders with no known centre, each on a guide of a placed link, pinned
+    for j in m.joints:
+        if j.kind != "R" or j.id in st.known:
+            continue
+        cands = [x for x in j.links if open_(x) and not st.known_on(x)]
+        for ib, b in enumerate(cands):
+            for c in cands[ib + 1 :]:
+                gb, gc = _guide(st, b, drivers, c), _guide(st, c, drivers, b)
+                if gb is None or gc is None:
+                    continue
+                _check_parallel(st, "PRP", j.id, gb, gc)
+                bb, bc = _other(m, gb, b), _other(m, gc, c)
+                step = Step(
+                    "PRP", (b, c), joint=j.id, inputs=(gb, gc), base=bb,
+                    diagonal=_guides_diagonal(st, bb, bc),
+                )  # fmt: skip
+                st.steps.append(step)
+                st.place(b, step, (j.id,))
+                st.place(c, step, (j.id,))
+                return True
+    # RPP (or PPR read from the other end): b with one known centre slides in c, which
+    # slides on a guide of a placed link
+    for j in m.joints:
+        if j.kind != "P" or j.id in drivers:
+            continue
+        for b, c in (tuple(j.links), tuple(j.links[::-1])):
+            if not open_(b) or not open_(c) or st.known_on(c):
+                continue
+            kb = st.known_on(b)
+            gc = _guide(st, c, drivers, b)
+            if len(kb) != 1 or gc is None:
+                continue
+            _check_parallel(st, "RPP", kb[0], j.id, gc)
+            base = _other(m, gc, c)
+            step = Step(
+                "RPP", (b, c), joint=j.id, inputs=(kb[0], gc), base=base,
+                diagonal=_line_diagonal(st, kb[0], base),
+            )  # fmt: skip
+            st.steps.append(step)
+            st.place(b, step, kb)
+            st.place(c, step, ())
+            return True
+    return False
+
+
+def _other(m: Mechanism, joint: str, link: str) -> str:
+    return next(x for x in m.joint(joint).links if x != link)
+
+
+def _guide(st: _State, link: str, drivers: tuple[str, ...], partner: str) -> str | None:
+    """A prismatic joint (not a driver) of ``link`` on a placed link other than ``partner``."""
+    for g in st.m.link_joints[link]:
+        j = st.m.joint(g)
+        if j.kind == "P" and g not in drivers:
+            other = _other(st.m, g, link)
+            if other != partner and other in st.placed:
+                return g
+    return None
+
+
+def _check_parallel(st: _State, kind: str, at: str, g1: str, g2: str) -> None:
+    """Bad input when the two guides of a dyad PRP / RPP are parallel at the reference."""
+    a1, a2 = st.geom.axes[g1], st.geom.axes[g2]
+    if abs((a1.conjugate() * a2).imag) <= PARALLEL_REF:
+        k = next(i for i, j in enumerate(st.m.joints) if j.id == g2)
+        raise MechanismError(
+            f"joints[{k}].axis: guides {g1!r} and {g2!r} of the dyad {kind} at {at!r} are "
+            "parallel; their intersection does not exist (the dyad is not determined)"
+        )
+
+
+def _guides_diagonal(st: _State, base1: str, base2: str) -> int:
+    """Triangles to relate guides on two placed links (0 on one link or a shared centre)."""
+    k1 = [j for j in st.revolute(base1) if j in st.known]
+    k2 = [j for j in st.revolute(base2) if j in st.known]
+    if base1 == base2 or set(k1) & set(k2):
+        return 0
+    return min((1 + st.diagonal(a, b) for a in k1 for b in k2), default=1)
 
 
 def _line_diagonal(st: _State, joint: str, base: str) -> int:

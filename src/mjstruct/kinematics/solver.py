@@ -239,6 +239,7 @@ def kinematics(
         result.closure = sol
     result.events = events
     warnings += [e.message() for e in events]
+    warnings += _parallel_guides(plan, ev, qa)
     warnings += _infeasible(result)
     result.warnings = warnings
     if checks:
@@ -284,6 +285,22 @@ def _collect(m: Mechanism, plan: Plan, geom: Geometry, q, speed: float, ev: Eval
         }
         valid &= np.isfinite(p.w[0]) & np.isfinite(p.w[1])
     return KinematicsResult(m, plan, geom, q, W, valid, joints, points, links, [], [], {})
+
+
+def _parallel_guides(plan: Plan, ev: Evaluation, q: np.ndarray) -> list[str]:
+    """Frames where the two guides of a dyad PRP / RPP are parallel (no intersection)."""
+    out = []
+    for k, s in enumerate(plan.steps):
+        if s.kind in ("PRP", "RPP") and k in ev.diag:
+            bad = ev.diag[k][0] < 0
+            if bad.any():
+                guides = s.inputs if s.kind == "PRP" else (s.joint, s.inputs[1])
+                out.append(
+                    f"dyad {s.kind} (step {k + 1}): guides {guides[0]} and {guides[1]} are "
+                    f"parallel at {int(bad.sum())} frame(s), first q = "
+                    f"{q[np.argmax(bad), 0]:.9g}: no intersection, values are null"
+                )
+    return out
 
 
 def _infeasible(r: KinematicsResult) -> list[str]:

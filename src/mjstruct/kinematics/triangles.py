@@ -140,6 +140,48 @@ def circle_line(
     return X, disc, det
 
 
+#: |sine| between two guides below this: parallel, the dyad PRP / RPP has no intersection
+PARALLEL = 1e-12
+
+
+def line_line(
+    L1: Jet, n1: Jet, L2: Jet, n2: Jet, order: int
+) -> tuple[Jet, np.ndarray, np.ndarray]:
+    """Dyads PRP and RPP: the point on the line through L1 (unit normal n1) and on L2's (n2).
+
+    Each line is a guide carried by a placed link (``L`` the link's image of the solved
+    point's reference position, ``n`` the guide's normal turned with the link), so the
+    step is linear: one intersection, no assembly mode.  Differentiating ``n·(X - L) = 0``
+    gives ``n·X' = n·L' - n'·(X - L)`` and ``n·X'' = n·L'' - n''·(X - L) - 2 n'·(X' - L')``
+    for both lines (Cramer's rule, as in :func:`circle_line`).  Returns the point's jet,
+    a discriminant (1, or -1 where the guides are parallel and the point is undefined:
+    those frames are nan) and the signed sine of the angle between the guides.
+
+    >>> one = np.ones(1, complex)
+    >>> X, disc, det = line_line([0 * one], [1j * one], [2 * one], [1 * one], 0)
+    >>> complex(X[0][0]) == 2, float(det[0])   # the x axis meets the vertical line x = 2
+    (True, -1.0)
+    """
+    a, b = n1[0], n2[0]
+    det = a.real * b.imag - a.imag * b.real
+    parallel = ~(np.abs(det) > PARALLEL)
+    X0 = np.where(parallel, np.nan, solve2(a, _dot(a, L1[0]), b, _dot(b, L2[0])))
+    X = [X0]
+    e1, e2 = X0 - L1[0], X0 - L2[0]
+    if order >= 1:
+        X.append(solve2(a, _dot(a, L1[1]) - _dot(n1[1], e1), b, _dot(b, L2[1]) - _dot(n2[1], e2)))
+    if order >= 2:
+        X.append(
+            solve2(
+                a,
+                _dot(a, L1[2]) - _dot(n1[2], e1) - 2.0 * _dot(n1[1], X[1] - L1[1]),
+                b,
+                _dot(b, L2[2]) - _dot(n2[2], e2) - 2.0 * _dot(n2[1], X[1] - L2[1]),
+            )
+        )
+    return X, np.where(parallel, -1.0, 1.0), det
+
+
 def guide_pair(
     P1: Jet, P2: Jet, z1: complex, z2: complex, axis: complex, K: np.ndarray | int, order: int
 ) -> tuple[np.ndarray, Jet, np.ndarray, np.ndarray]:
