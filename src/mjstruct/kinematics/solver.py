@@ -314,7 +314,10 @@ def _infeasible(r: KinematicsResult) -> list[str]:
         for i, j in zip(starts, ends, strict=True)
     ]
     after = [int(j) + 1 for j in ends if j + 1 < r.valid.size]
-    if after:
+    # only steps with an assembly mode (circle intersections, closures) can carry the
+    # wrong branch across a gap; line-line dyads (PRP, RPP) have a single solution
+    has_modes = any(s.kind in ("RRR", "RRP", "RPR") or s.is_closure for s in r.plan.steps)
+    if after and has_modes:
         # the motion cannot physically cross an infeasible interval: say so
         out.append(
             f"frames from {after[0]} on assemble again after an infeasible interval: found "
