@@ -24,7 +24,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure import mobility as mob
 from mjstruct.structure.assortments import Assortment, assortment, simple_joint_count
 from mjstruct.structure.codes import full_code, parse_code, structural_code
-from mjstruct.structure.generic_mobility import GenericMobility
+from mjstruct.structure.generic_mobility import GenericMobility, generic_mobility
 
 
 def _num(x: Fraction | int) -> int | float:
@@ -152,7 +152,6 @@ def _fill(r: StructuralReport, K: Fraction) -> StructuralReport:
 
 def structural_report(m: Mechanism, lam: int = 3, with_loops: bool = True) -> StructuralReport:
     """Every structural quantity of ``m`` (frame and drivers used for N and rc only)."""
-    from mjstruct.structure.generic_mobility import generic_mobility
     from mjstruct.structure.isomorphism import canonical_code
 
     a = assortment(m)
