@@ -1,7 +1,7 @@
 """Speed of the kinematics plug-in, measured side by side in one run.
 
 * Four-bar, 3600 frames, positions + σ + κ: the plug-in (its evaluation of the plan,
-  and the whole ``kinematics()`` call with planning and branch tracking) against a
+  and the whole ``kinematic_analysis()`` call with planning and branch tracking) against a
   hand-written numpy closed form of the same four-bar.
 * Seed 003 class-IV mechanism, 3600 frames (Newton closure included): target < 0.2 s.
 * pylinkage, when importable (installed only in a benchmark environment): the same
@@ -21,8 +21,9 @@ from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.geometry import read_geometry
+from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.planner import plan_kinematics
-from mjstruct.kinematics.solver import kinematics
+from mjstruct.kinematics.solver import kinematic_analysis
 from timing import median_time, race
 
 FRAMES = 3600
@@ -64,6 +65,7 @@ def main() -> None:
     m = read_mechanism(example_path("four-bar"))
     g = read_geometry(m)
     p = plan_kinematics(m, geometry=g)
+    model = KinematicModel(m, g, p)
     q = g.driver_ref["O1"] + np.linspace(0, 2 * math.pi, FRAMES, endpoint=False)[:, None]
     O1, A0, B0, O2 = (complex(*m.joint(j).at) for j in ("O1", "A", "B", "O2"))
     a, b, c, d = abs(A0 - O1), abs(B0 - A0), abs(B0 - O2), abs(O2 - O1)
@@ -82,16 +84,18 @@ def main() -> None:
         [
             lambda: four_bar_closed_form(q[:, 0], a, b, c, d, mode),
             lambda: evaluate(p, g, m, q, order=2),
-            lambda: kinematics(m, frames=FRAMES, checks=False, plan=p),
-            lambda: kinematics(m, frames=FRAMES, checks=False),
+            lambda: kinematic_analysis(model, frames=FRAMES, checks=False),
+            lambda: kinematic_analysis(m, frames=FRAMES, checks=False),
         ],
         R,
     )
-    t_checks = median_time(lambda: kinematics(m, frames=FRAMES), max(3, R // 3))[0]
+    t_checks = median_time(lambda: kinematic_analysis(m, frames=FRAMES), max(3, R // 3))[0]
 
     m4 = read_mechanism(example_path("class-iv-seed003"))
-    t_iv = median_time(lambda: kinematics(m4, frames=FRAMES, checks=False), max(3, R // 3))[0]
-    t_iv_checks = median_time(lambda: kinematics(m4, frames=FRAMES), max(3, R // 3))[0]
+    t_iv = median_time(
+        lambda: kinematic_analysis(m4, frames=FRAMES, checks=False), max(3, R // 3)
+    )[0]
+    t_iv_checks = median_time(lambda: kinematic_analysis(m4, frames=FRAMES), max(3, R // 3))[0]
 
     print(f"four-bar, {FRAMES} frames, positions + sigma + kappa (median of {R})")
     print(f"  hand-written numpy closed form       {t_closed * 1e3:8.3f} ms   1.00x")
@@ -100,20 +104,20 @@ def main() -> None:
         f"{t_eval / t_closed:5.2f}x   (max |diff| to closed form {agree:.1e})"
     )
     print(
-        f"  plug-in kinematics(plan=p) (branches) {t_sweep * 1e3:8.3f} ms   "
+        f"  plug-in analysis, model reused (branches) {t_sweep * 1e3:8.3f} ms   "
         f"{t_sweep / t_closed:5.2f}x"
     )
     print(
-        f"  plug-in kinematics() (plan+branches)  {t_full * 1e3:8.3f} ms   "
+        f"  plug-in analysis (plan+branches)          {t_full * 1e3:8.3f} ms   "
         f"{t_full / t_closed:5.2f}x"
     )
     print(
-        f"  kinematics() with checks (Jacobian)   {t_checks * 1e3:8.3f} ms   "
+        f"  analysis with checks (Jacobian)           {t_checks * 1e3:8.3f} ms   "
         f"{t_checks / t_closed:5.2f}x"
     )
     print(f"seed 003 class-IV mechanism, {FRAMES} frames, Newton closure")
-    print(f"  kinematics() without checks           {t_iv * 1e3:8.3f} ms   (target < 200 ms)")
-    print(f"  kinematics() with checks              {t_iv_checks * 1e3:8.3f} ms")
+    print(f"  analysis without checks  {t_iv * 1e3:8.3f} ms   (target < 200 ms)")
+    print(f"  analysis with checks            {t_iv_checks * 1e3:8.3f} ms")
 
     try:
         import pylinkage as pl  # only in a benchmark environment
@@ -167,7 +171,7 @@ def _pylinkage_four_bar(pl, a, b, c, d, A0, B0, R) -> tuple[float, float] | None
 def _our_B(a, b, c, d, th0) -> np.ndarray:
     m = read_mechanism(example_path("four-bar"))
     q = th0 + 2 * math.pi / FRAMES * np.arange(1, FRAMES + 1)
-    r = kinematics(m, q=q, checks=False)
+    r = kinematic_analysis(m, q=q, checks=False)
     return r.joints["B"]["x"] + 1j * r.joints["B"]["y"]
 
 

@@ -22,9 +22,11 @@ PUBLIC = [
     "lookup",
     "rigid_subchain",
     "seed_invariants",
+    "KinematicModel",
     "KinematicsResult",
+    "Motion",
     "jacobian_at_reference",
-    "kinematics",
+    "kinematic_analysis",
     "plan_kinematics",
     "read_geometry",
     "AssurGroup",
@@ -78,6 +80,33 @@ def test_public_names_pinned():
     assert sorted(mjstruct.__all__) == sorted(PUBLIC)
     for name in PUBLIC:
         assert getattr(mjstruct, name) is not None
+
+
+def test_exports_are_stable_callables():
+    """Each export is one object on every access (no subpackage shadows it) and callable."""
+    import importlib
+
+    first = {name: getattr(mjstruct, name) for name in PUBLIC}
+    # importing every subpackage must not change what a public name refers to
+    for sub in ("kinematics", "structure", "synthesis", "plot", "cli"):
+        importlib.import_module(f"mjstruct.{sub}")
+    for name in PUBLIC:
+        obj = getattr(mjstruct, name)
+        assert obj is first[name], name
+        assert callable(obj), name
+        assert not isinstance(obj, type(mjstruct)), f"{name} is a module"
+
+
+def test_type_checking_block_matches_exports():
+    """The typed re-exports (for type checkers) name exactly the lazy exports."""
+    import ast
+
+    tree = ast.parse((ROOT / "src/mjstruct/__init__.py").read_text())
+    block = next(n for n in tree.body if isinstance(n, ast.If))
+    typed = {
+        a.name: n.module for n in block.body if isinstance(n, ast.ImportFrom) for a in n.names
+    }
+    assert typed == mjstruct._EXPORTS
 
 
 def test_cli_commands_pinned():

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from mjstruct.catalog_files import example_path
 from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
-from mjstruct.kinematics.solver import kinematics
+from mjstruct.kinematics.solver import kinematic_analysis
 
 # -- builders ---------------------------------------------------------------------
 
@@ -73,7 +73,7 @@ def slider_closed_form(L1, L2, th, w=1.0):
 
 def test_seed001_table():
     m = read_mechanism(example_path("slider-crank"))
-    r = kinematics(m, q=np.radians([0, 90, 180, 270]), speed=0.5)
+    r = kinematic_analysis(m, q=np.radians([0, 90, 180, 270]), speed=0.5)
     B = r.joints["B"]
     assert B["x"] == pytest.approx([0.45, 0.335, 0.25, 0.335], abs=6e-4)
     assert B["vx"] == pytest.approx([0.0, -0.05, 0.0, 0.05], abs=1e-12)
@@ -83,7 +83,7 @@ def test_seed001_table():
 
 def test_seed001_every_degree_matches_closed_form():
     m = read_mechanism(example_path("slider-crank"))
-    r = kinematics(m, frames=360, speed=0.5)
+    r = kinematic_analysis(m, frames=360, speed=0.5)
     th = r.q[:, 0]
     assert np.diff(th) == pytest.approx(np.radians(1.0))
     x, v, a = slider_closed_form(0.1, 0.35, th, 0.5)
@@ -100,7 +100,7 @@ def test_seed001_every_degree_matches_closed_form():
 
 
 def test_plan_of_slider_crank_is_two_right_triangles():
-    r = kinematics(read_mechanism(example_path("slider-crank")), frames=8)
+    r = kinematic_analysis(read_mechanism(example_path("slider-crank")), frames=8)
     assert r.plan.complexity() == {"general": 0, "right": 2, "checks": 0, "unknowns": 0}
     assert [s.kind for s in r.plan.steps] == ["reference", "driver-R", "RRP"]
 
@@ -108,7 +108,7 @@ def test_plan_of_slider_crank_is_two_right_triangles():
 def test_reference_configuration_is_reproduced():
     for name in ("slider-crank", "four-bar", "class-iv-seed003", "zhivago"):
         m = read_mechanism(example_path(name))
-        r = kinematics(m, frames=1)
+        r = kinematic_analysis(m, frames=1)
         for j in m.joints:
             assert r.joints[j.id]["x"][0] == pytest.approx(j.at[0], abs=1e-10), (name, j.id)
             assert r.joints[j.id]["y"][0] == pytest.approx(j.at[1], abs=1e-10), (name, j.id)
@@ -120,7 +120,7 @@ def test_reference_configuration_is_reproduced():
 def test_four_bar_closed_form_positions_velocities_accelerations():
     a, b, c, d = 0.3, 0.8, 0.7, 1.0
     m = four_bar(a, b, c, d, math.radians(60))
-    r = kinematics(m, frames=720, speed=2.0)
+    r = kinematic_analysis(m, frames=720, speed=2.0)
     th = r.q[:, 0]
     # closed form (Freudenstein by half-angle tangent), independent of the solver
     K1, K2, K3 = d / a, d / c, (a * a - b * b + c * c + d * d) / (2 * a * c)
@@ -165,14 +165,14 @@ def test_four_bar_closed_form_positions_velocities_accelerations():
 def test_grashof_crank_rocker_keeps_lengths_and_analogs(a, b, c, theta, mode):
     d = 1.0  # s + l <= p + q - 0.1: the crank turns fully, away from change points
     m = four_bar(a, b, c, d, theta, mode)
-    r = kinematics(m, frames=1000)
+    r = kinematic_analysis(m, frames=1000)
     assert r.valid.all()
     assert r.checks["link_lengths"]["max_error"] < 1e-12
     chk = r.checks["analogs_vs_differences"]
     assert chk["max_error"] < 1e-3 * max(1.0, chk["max_analog"])
     assert r.checks["jacobian"]["rank"] == [8]
     # after a full turn the mechanism is back where it started (same branch)
-    r2 = kinematics(m, q=[theta, theta + 2 * math.pi])
+    r2 = kinematic_analysis(m, q=[theta, theta + 2 * math.pi])
     assert r2.joints["B"]["x"][1] == pytest.approx(r2.joints["B"]["x"][0], abs=1e-9)
 
 
@@ -181,7 +181,7 @@ def test_grashof_crank_rocker_keeps_lengths_and_analogs(a, b, c, theta, mode):
 
 def test_seed003_full_72_positions():
     m = read_mechanism(example_path("class-iv-seed003"))
-    r = kinematics(m, frames=72)
+    r = kinematic_analysis(m, frames=72)
     assert r.valid.all() and r.warnings == []
     kinds = [s.kind for s in r.plan.steps]
     # seed 003's strategy: assume link 2's angle, two class-II solutions, compare |DE|
@@ -200,7 +200,7 @@ def test_seed003_full_72_positions():
     h = 1e-4
     q0 = r.q[:, 0]
     qq = np.column_stack([q0 - h, q0, q0 + h]).ravel()
-    rr = kinematics(m, q=qq)
+    rr = kinematic_analysis(m, q=qq)
     for j in ("B", "C", "D", "E"):
         X = rr.joints[j]["x"].reshape(-1, 3) + 1j * rr.joints[j]["y"].reshape(-1, 3)
         fd = (X[:, 2] - X[:, 0]) / (2 * h)
@@ -222,7 +222,7 @@ def test_near_dead_centre_acceleration_follows_inverse_determinant(eps):
     m = slider_crank(L1, L2, math.radians(30))
     q = np.radians(30.0) + np.radians(np.arange(360.0))  # frame 60 is 90 degrees
     q[60] = math.pi / 2
-    r = kinematics(m, q=q)
+    r = kinematic_analysis(m, q=q)
     assert r.valid.all()
     assert all(np.isfinite(v).all() for j in r.joints.values() for v in j.values())
     aB = r.joints["B"]["ax"][60]
@@ -244,7 +244,7 @@ def test_near_dead_centre_acceleration_follows_inverse_determinant(eps):
 def test_extreme_length_ratios(ratio):
     L1, L2 = (ratio, 1.0) if ratio < 1 else (1.0, ratio)
     m = slider_crank(L1, L2, 0.3)
-    r = kinematics(m, frames=90, speed=1.0)
+    r = kinematic_analysis(m, frames=90, speed=1.0)
     x, v, a = slider_closed_form(L1, L2, r.q[:, 0])
     B = r.joints["B"]
     assert np.abs(B["x"] - x).max() <= 1e-13 * L2
@@ -262,7 +262,7 @@ def _jumps(r, link):
 def test_parallelogram_ms1_passes_change_points_smoothly():
     # seed 004 MS1 = [0.5 1 0.5]: crank 0.5, coupler 1, rocker 0.5, frame 1
     m = four_bar(0.5, 1.0, 0.5, 1.0, math.radians(50), mode=1)
-    r = kinematics(m, frames=360)
+    r = kinematic_analysis(m, frames=360)
     # the reference is the parallelogram: the rocker (vector B -> O2) stays antiparallel
     # to the crank (O1 -> A)
     turn = r.links["3"]["angle"] - r.links["1"]["angle"]
@@ -286,7 +286,7 @@ def test_parallelogram_ms1_passes_change_points_smoothly():
 def test_hinged_square_reports_change_points_and_stays_on_branch():
     # seed 004 MS5 = [1 1 1]: the hinged square; at q = 0 the dyad is undefined
     m = four_bar(1.0, 1.0, 1.0, 1.0, math.radians(90), mode=1)
-    r = kinematics(m, frames=360)
+    r = kinematic_analysis(m, frames=360)
     ev = [e for e in r.events if e.kind in ("change point", "singular frame")]
     assert ev, r.warnings
     assert any(abs(math.remainder(e.q, 2 * math.pi)) < 1e-2 for e in ev)
@@ -304,7 +304,7 @@ def test_hinged_square_reports_change_points_and_stays_on_branch():
 def test_infeasible_crank_is_reported_with_its_limits():
     # non-Grashof: crank 0.6, coupler 0.5, rocker 0.7, frame 1 cannot turn fully
     m = four_bar(0.6, 0.5, 0.7, 1.0, math.radians(60), mode=1)
-    r = kinematics(m, frames=360)
+    r = kinematic_analysis(m, frames=360)
     assert not r.valid.all() and r.valid[0]
     assert any(w.startswith("no assembly for q in") for w in r.warnings)
     dead = [e for e in r.events if e.kind == "dead point"]
@@ -331,15 +331,15 @@ def test_missing_geometry_is_bad_input():
     ]
     m = mechanism_from_dict({"frame": 0, "drivers": ["a"], "joints": joints})
     with pytest.raises(MechanismError, match=r"joints\[1\]\.at"):
-        kinematics(m)
+        kinematic_analysis(m)
 
 
 def test_wrong_driver_count_is_bad_input():
     m = read_mechanism(example_path("four-bar"))
     with pytest.raises(MechanismError, match="over-constrained"):
-        kinematics(m, drivers=["O1", "O2"])
+        kinematic_analysis(m, drivers=["O1", "O2"])
     with pytest.raises(MechanismError, match="frames"):
-        kinematics(m, frames=0)
+        kinematic_analysis(m, frames=0)
 
 
 # -- other drivers ------------------------------------------------------------------------
@@ -350,7 +350,7 @@ def test_prismatic_driver_moves_the_crank_through_a_dyad():
     m = slider_crank(L1, L2, math.radians(62))
     xb0 = m.joint("B").at[0]
     q = np.linspace(0.0, -0.1, 51)  # the slide from the reference, along the guide
-    r = kinematics(m, drivers=["O4"], q=q)
+    r = kinematic_analysis(m, drivers=["O4"], q=q)
     assert [s.kind for s in r.plan.steps] == ["reference", "driver-P", "RRR"]
     B, A = r.joints["B"], r.joints["A"]
     assert np.abs(B["x"] - (xb0 + q)).max() < 1e-15
@@ -365,7 +365,7 @@ def test_prismatic_driver_moves_the_crank_through_a_dyad():
 
 def test_two_drivers_five_bar():
     m = read_mechanism(example_path("kin-five-bar"))
-    r = kinematics(m, frames=72)
+    r = kinematic_analysis(m, frames=72)
     assert r.q.shape == (72, 2)
     assert r.checks["jacobian"]["dof"] == 2 and r.checks["jacobian"]["rank"] == [10]
     assert r.checks["link_lengths"]["max_error"] < 1e-12
@@ -374,7 +374,7 @@ def test_two_drivers_five_bar():
     assert np.abs(r.links["4"]["omega"] - 1).max() < 1e-15
     h = 1e-6
     q0 = r.q[5]
-    rr = kinematics(m, q=np.array([q0 - h, q0 + h]))
+    rr = kinematic_analysis(m, q=np.array([q0 - h, q0 + h]))
     fd = (rr.joints["B"]["x"][1] - rr.joints["B"]["x"][0]) / (2 * h)
     assert fd == pytest.approx(r.joints["B"]["vx"][5], abs=1e-8)
     assert len(r.to_dict()["q"][0]) == 2
@@ -385,7 +385,7 @@ def test_zero_length_side_is_bad_input():
     data = mechanism_to_dict(m)
     data["joints"][1]["at"] = data["joints"][2]["at"]  # A onto B: link 2 has no length
     with pytest.raises(MechanismError, match=r"joints\[2\]\.at: joints 'A' and 'B' of link '2'"):
-        kinematics(mechanism_from_dict(data))
+        kinematic_analysis(mechanism_from_dict(data))
 
 
 def _double_parallelogram(r3: float):
@@ -403,7 +403,7 @@ def _double_parallelogram(r3: float):
 
 
 def test_redundant_constraint_refines_mobility():
-    r = kinematics(_double_parallelogram(0.5), frames=90)
+    r = kinematic_analysis(_double_parallelogram(0.5), frames=90)
     jac = r.checks["jacobian"]
     # 12 equations, 12 coordinates, but rank 11: one redundant constraint, DOF 1
     assert (jac["equations"], jac["coordinates"], jac["rank"]) == (12, 12, [11])
@@ -416,7 +416,7 @@ def test_redundant_constraint_refines_mobility():
 def test_redundant_constraint_violated_when_not_parallel():
     # the third crank is longer (0.6): with all cranks parallel the Jacobian still
     # loses rank (infinitesimal mobility), but the mechanism cannot move
-    r = kinematics(_double_parallelogram(0.6), frames=90)
+    r = kinematic_analysis(_double_parallelogram(0.6), frames=90)
     assert r.valid[0] and not r.valid[1:].any()
     assert any(w.startswith("redundant constraint violated") for w in r.warnings)
 
@@ -434,7 +434,7 @@ def test_inverted_slider_crank_rpr_dyad():
         {"id": "O2", "links": ["3", "0"], "at": [1.0, 0.0]},
     ]  # fmt: skip
     m = mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
-    r = kinematics(m, frames=360, speed=1.5)
+    r = kinematic_analysis(m, frames=360, speed=1.5)
     assert [s.kind for s in r.plan.steps] == ["reference", "driver-R", "RPR"]
     assert r.plan.complexity()["right"] == 2
     th = r.q[:, 0]

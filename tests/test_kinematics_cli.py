@@ -14,7 +14,7 @@ import pytest
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.solver import kinematics
+from mjstruct.kinematics.solver import kinematic_analysis
 
 
 def _json(capsys, argv):
@@ -52,7 +52,7 @@ def test_csv_table(tmp_path, capsys):
     assert "2.omega" in rows[0] and "M.ax" in rows[0]
     assert len(rows) == 13
     B = rows[0].index("B.x")
-    r = kinematics(read_mechanism(f), frames=12)
+    r = kinematic_analysis(read_mechanism(f), frames=12)
     assert [float(x[B]) for x in rows[1:]] == pytest.approx(list(r.joints["B"]["x"]), abs=0)
 
 
@@ -109,7 +109,7 @@ def test_structural_path_stays_light():
 
 def test_zhivago_inner_driver_needs_triangles_only():
     m = read_mechanism(example_path("zhivago"))
-    r = kinematics(m, drivers=["E"], frames=360)
+    r = kinematic_analysis(m, drivers=["E"], frames=360)
     assert r.plan.unknowns == 0 and r.closure is None
     kinds = [s.kind for s in r.plan.steps]
     assert kinds == ["reference", "driver-R", "RRR", "RRR"]
@@ -131,11 +131,11 @@ def test_zhivago_inner_driver_needs_triangles_only():
 
 def test_zhivago_frame_driver_by_iteration_gives_the_same_motion():
     m = read_mechanism(example_path("zhivago"))
-    rE = kinematics(m, drivers=["E"], frames=720)
+    rE = kinematic_analysis(m, drivers=["E"], frames=720)
     theta = rE.links["1"]["angle"]  # the physical crank angle, a computed function of q
     # with these dimensions both the crank O and the angle at E turn fully, monotonically
     assert np.all(np.diff(theta) < 0) and theta[0] - theta[-1] > np.radians(355)
-    rO = kinematics(m, drivers=["O"], q=theta)
+    rO = kinematic_analysis(m, drivers=["O"], q=theta)
     assert rO.plan.unknowns == 1 and rO.valid.all() and rO.warnings == []
     for j in "ABCDEG":
         for k in ("x", "y"):
@@ -147,7 +147,7 @@ def test_zhivago_frame_driver_by_iteration_gives_the_same_motion():
         vO = (rO.joints[j]["vx"] + 1j * rO.joints[j]["vy"]) * dtheta
         assert np.abs(vO - vE).max() < 1e-8, j
     # and the full crank cycle, driven at O, needs no warning either
-    assert kinematics(m, frames=360).warnings == []
+    assert kinematic_analysis(m, frames=360).warnings == []
 
 
 def _no_nan(text: str):

@@ -7,7 +7,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.solver import kinematics
+from mjstruct.kinematics.solver import kinematic_analysis
 
 
 def triad_residual_min(m, q: float) -> float:
@@ -36,7 +36,7 @@ def triad_residual_min(m, q: float) -> float:
 
 def test_partial_crank_range_is_reported_not_crawled(examples):
     m = read_mechanism(examples / "triad-class-iii.json")
-    d = kinematics(m, frames=36).to_dict()
+    d = kinematic_analysis(m, frames=36).to_dict()
     x = d["joints"]["C"]["x"]
     assembled = [q for q, v in zip(d["q"], x, strict=True) if v is not None]
     missing = [q for q, v in zip(d["q"], x, strict=True) if v is None]

@@ -22,7 +22,7 @@ from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, read_mechanism
 from mjstruct.kinematics.geometry import read_geometry
 from mjstruct.kinematics.planner import plan_kinematics
-from mjstruct.kinematics.solver import kinematics
+from mjstruct.kinematics.solver import kinematic_analysis
 from mjstruct.mechanism import Mechanism
 
 
@@ -193,7 +193,7 @@ def test_scotch_yoke_against_closed_form(W):
     m = read_mechanism(example_path("scotch-yoke"))
     g = read_geometry(m)
     r_crank = abs(g.centres["A"] - g.centres["O"])
-    res = kinematics(m, frames=360, speed=W)
+    res = kinematic_analysis(m, frames=360, speed=W)
     assert res.valid.all() and res.warnings == []
     q = res.q[:, 0]
     for jid in ("J", "G"):
@@ -219,7 +219,7 @@ def test_scotch_yoke_against_closed_form(W):
 def test_slanted_yoke_against_scipy_and_differences():
     """RPP with a slanted slot and a slanted frame guide: independent solution."""
     m = scotch_yoke(0.3, slot=1.2, guide=0.4)
-    res = kinematics(m, frames=72, speed=1.0)
+    res = kinematic_analysis(m, frames=72, speed=1.0)
     assert res.valid.all()
     for i in (0, 5, 17, 40, 63):
         ref = independent(m, float(res.q[i, 0] - res.q[0, 0]))
@@ -245,7 +245,7 @@ def test_tangent_mechanism_prp_against_closed_form():
     # stay away from the parallel positions q = 0, π: q in [q0, q0 + 1.8)
     q = q0 + np.linspace(0.0, 1.8, 400)
     W = 1.3
-    res = kinematics(m, q=q, speed=W)
+    res = kinematic_analysis(m, q=q, speed=W)
     assert res.valid.all()
     X = res.joints["X"]
     s, c = np.sin(q), np.cos(q)
@@ -267,7 +267,7 @@ def test_offset_prp_against_scipy(e, guide, q0):
     """PRP with an offset guide on the crank and a slanted frame guide."""
     m = tangent(0.4, q0, e=e, guide=guide)
     q = q0 + np.linspace(-0.5, 0.5, 41)
-    res = kinematics(m, q=q)
+    res = kinematic_analysis(m, q=q)
     assert res.valid.all()
     for i in (0, 7, 20, 33, 40):
         ref = independent(m, float(q[i] - q0))
@@ -297,7 +297,7 @@ def test_elliptical_trammel_driven_at_the_pin_is_rpp_with_the_frame_sliding():
     )
     p = plan_kinematics(m)
     assert [s.kind for s in p.steps] == ["reference", "driver-R", "RPP"]
-    res = kinematics(m, frames=360, speed=1.0)
+    res = kinematic_analysis(m, frames=360, speed=1.0)
     assert res.valid.all() and res.warnings == []
     q = res.q[:, 0]  # the coupler's angle A→B against the frame
     np.testing.assert_allclose(res.joints["A"]["x"], -L * np.cos(q), atol=1e-12)
@@ -324,7 +324,7 @@ def test_elliptical_trammel_driven_at_the_pin_is_rpp_with_the_frame_sliding():
     ],
 )
 def test_every_joint_constraint_holds_on_every_frame(m):
-    res = kinematics(m, frames=90)
+    res = kinematic_analysis(m, frames=90)
     g = read_geometry(m)
     assert res.checks["link_lengths"]["max_error"] < 1e-12 * g.scale
     ok = np.flatnonzero(res.valid)
@@ -344,7 +344,7 @@ def test_every_joint_constraint_holds_on_every_frame(m):
 def test_parallel_guides_at_the_reference_are_bad_input(tmp_path, capsys):
     yoke = scotch_yoke(0.3, slot=0.0, guide=0.0)  # slot along the frame guide
     with pytest.raises(MechanismError, match=r"joints\[3\]\.axis: guides 'J' and 'G'"):
-        kinematics(yoke)
+        kinematic_analysis(yoke)
     d = {
         "frame": "0",
         "drivers": ["O"],
@@ -356,7 +356,7 @@ def test_parallel_guides_at_the_reference_are_bad_input(tmp_path, capsys):
         ],
     }
     with pytest.raises(MechanismError, match="parallel"):
-        kinematics(mechanism_from_dict(d))
+        kinematic_analysis(mechanism_from_dict(d))
     f = tmp_path / "prp.json"
     f.write_text(json.dumps(d))
     assert main(["kinematics", str(f), "--json"]) == 2
@@ -370,7 +370,7 @@ def test_guides_parallel_along_the_motion_give_null_frames_and_a_warning(tmp_pat
     """Tangent mechanism over a full turn: at q = 0, π the guides are parallel."""
     h, q0 = 0.2, math.pi / 4
     m = tangent(h, q0)
-    res = kinematics(m, frames=360)  # frames 135 and 315 are q = π, 2π
+    res = kinematic_analysis(m, frames=360)  # frames 135 and 315 are q = π, 2π
     q = res.q[:, 0]
     near = np.abs(np.sin(q)) < 1e-12
     assert near.sum() == 2

@@ -14,7 +14,7 @@ from mjstruct.catalog_files import example_path
 from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.evaluate import evaluate
-from mjstruct.kinematics.solver import kinematics
+from mjstruct.kinematics.solver import kinematic_analysis
 
 TOPOLOGIES = {
     # name: (example file, drivers); the random geometry replaces every "at"
@@ -47,7 +47,7 @@ def test_any_reference_configuration_moves_consistently(name, xy):
     assume(min(abs(a - b) for i, a in enumerate(pts) for b in pts[i + 1 :]) > 0.05)
     try:
         m, drivers = _random_mechanism(name, xy)
-        r0 = kinematics(m, drivers=drivers, frames=1)
+        r0 = kinematic_analysis(m, drivers=drivers, frames=1)
     except MechanismError:
         assume(False)  # coincident centres: bad input, tested elsewhere
         return
@@ -55,7 +55,7 @@ def test_any_reference_configuration_moves_consistently(name, xy):
     assume(r0.checks["jacobian"]["dof"] == len(drivers))
     q0 = r0.q[0, 0]
     h = 2e-4
-    r = kinematics(m, drivers=drivers, q=q0 + h * np.array([-1.0, -0.5, 0.0, 0.5, 1.0]))
+    r = kinematic_analysis(m, drivers=drivers, q=q0 + h * np.array([-1.0, -0.5, 0.0, 0.5, 1.0]))
     assume(r.valid.all())
     # away from dead points: every dyad's sine, and the closure's conditioning
     ev = evaluate(r.plan, r.geometry, m, r.q[2:3], order=0)
@@ -82,7 +82,7 @@ def test_any_reference_configuration_moves_consistently(name, xy):
 def test_radial_engine_multiple_joint_against_closed_form():
     m = read_mechanism(example_path("kin-radial-engine-5"))
     assert max(len(j.links) for j in m.joints) == 6  # one pin for the crank and 5 rods
-    r = kinematics(m, frames=360, speed=3.0)
+    r = kinematic_analysis(m, frames=360, speed=3.0)
     assert r.valid.all() and r.warnings == []
     assert r.plan.complexity()["right"] == 10
     th = r.q[:, 0]

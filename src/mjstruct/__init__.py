@@ -8,7 +8,7 @@ imported only when used; names below are resolved lazily.
 from __future__ import annotations
 
 import importlib
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
@@ -55,8 +55,10 @@ _EXPORTS: dict[str, str] = {
     "rigid_components": "mjstruct.structure.pebble",
     "rigidity": "mjstruct.structure.pebble",
     "plot_decomposition": "mjstruct.plot.assur",
-    "kinematics": "mjstruct.kinematics.solver",
+    "kinematic_analysis": "mjstruct.kinematics.solver",
     "KinematicsResult": "mjstruct.kinematics.solver",
+    "KinematicModel": "mjstruct.kinematics.model",
+    "Motion": "mjstruct.kinematics.model",
     "plan_kinematics": "mjstruct.kinematics.planner",
     "read_geometry": "mjstruct.kinematics.geometry",
     "jacobian_at_reference": "mjstruct.kinematics.jacobian",
@@ -74,6 +76,55 @@ _EXPORTS: dict[str, str] = {
 }
 
 __all__ = sorted(_EXPORTS)
+
+if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal to _EXPORTS
+    from mjstruct.errors import MechanismError, NumericalError
+    from mjstruct.io import (
+        from_link_graph,
+        mechanism_from_dict,
+        mechanism_to_dict,
+        mechanism_to_toml,
+        parse_mechanism,
+        read_mechanism,
+        to_networkx,
+    )
+    from mjstruct.kinematics.geometry import read_geometry
+    from mjstruct.kinematics.jacobian import jacobian_at_reference
+    from mjstruct.kinematics.model import KinematicModel, Motion
+    from mjstruct.kinematics.planner import plan_kinematics
+    from mjstruct.kinematics.solver import KinematicsResult, kinematic_analysis
+    from mjstruct.mechanism import Joint, Mechanism, Point
+    from mjstruct.plot.assur import plot_decomposition
+    from mjstruct.report import StructuralReport, code_report, structural_report
+    from mjstruct.structure.assortments import (
+        Assortment,
+        assortment,
+        link_assortment,
+        mj_assortment,
+        mj_factor,
+        simple_joint_count,
+    )
+    from mjstruct.structure.assur import (
+        AssurGroup,
+        Decomposition,
+        DriverChoice,
+        assur_groups,
+        driver_choices,
+        random_mechanism,
+    )
+    from mjstruct.structure.codes import full_code, parse_code, structural_code
+    from mjstruct.structure.generic_mobility import GenericMobility, generic_mobility
+    from mjstruct.structure.incidence import incidence_matrix
+    from mjstruct.structure.invariants import seed_invariants
+    from mjstruct.structure.isomorphism import canonical_code, is_isomorphic
+    from mjstruct.structure.loops import is_planar, loop_assortment
+    from mjstruct.structure.pebble import generic_dof, pebble_rank, rigid_components, rigidity
+    from mjstruct.synthesis.admissibility import is_admissible, rigid_subchain
+    from mjstruct.synthesis.assur_atlas import assur_atlas
+    from mjstruct.synthesis.atlas import Atlas, Chain, atlas
+    from mjstruct.synthesis.catalog import lookup
+    from mjstruct.synthesis.cells import cells, code_counts
+    from mjstruct.synthesis.names import familiar_name
 
 
 def __getattr__(name: str) -> Any:

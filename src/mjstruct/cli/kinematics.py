@@ -26,7 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
     from mjstruct.kinematics.report import render, write_csv
-    from mjstruct.kinematics.solver import kinematics
+    from mjstruct.kinematics.solver import kinematic_analysis
 
     if args.frames < 1:
         raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--tol: must be in (0, 1), got {args.tol}")
     m = read_mechanism(args.file)
     drivers = driver_list(args.drivers, m)
-    r = kinematics(
+    r = kinematic_analysis(
         m, drivers=drivers, frames=args.frames, speed=args.speed, stroke=args.stroke, tol=args.tol
     )
     if args.csv:

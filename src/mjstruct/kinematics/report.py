@@ -9,8 +9,8 @@ Examples
 --------
 >>> from mjstruct.io import read_mechanism
 >>> from mjstruct.catalog_files import example_path
->>> from mjstruct.kinematics.solver import kinematics
->>> r = kinematics(read_mechanism(example_path("four-bar")), frames=36)
+>>> from mjstruct.kinematics.solver import kinematic_analysis
+>>> r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=36)
 >>> print(render(r).splitlines()[0])
 kinematics of four-bar: 36 frames, drivers O1, speed 1
 """

@@ -1,6 +1,6 @@
 """Kinematic analysis of a mechanism over a sweep of its drivers (the plug-in's entry).
 
-Owns :func:`kinematics`: geometry and plan, closure unknowns (Newton) where the plan
+Owns :func:`kinematic_analysis`: geometry and plan, closure unknowns (Newton) where the plan
 has them, branch tracking, the final exact evaluation (positions, analogs σ = ds/dq,
 κ = dσ/dq), velocities and accelerations ``v = σ q̇``, ``a = κ q̇² + σ q̈`` for a
 constant driver speed, and the checks (link lengths, analogs against differences of
@@ -10,7 +10,7 @@ Examples
 --------
 >>> from mjstruct.io import read_mechanism
 >>> from mjstruct.catalog_files import example_path
->>> r = kinematics(read_mechanism(example_path("slider-crank")), frames=4, speed=0.5)
+>>> r = kinematic_analysis(read_mechanism(example_path("slider-crank")), frames=4, speed=0.5)
 >>> [round(float(x), 3) for x in r.joints["B"]["x"]]
 [0.386, 0.259, 0.292, 0.435]
 >>> r.warnings
@@ -26,12 +26,13 @@ from typing import Any
 import numpy as np
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.branches import BranchEvent, track_branches
-from mjstruct.kinematics.closure import Closure, close
-from mjstruct.kinematics.evaluate import Evaluation, evaluate
-from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.branches import BranchEvent
+from mjstruct.kinematics.closure import Closure
+from mjstruct.kinematics.evaluate import Evaluation
+from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.jacobian import JacobianCheck, check_jacobian
-from mjstruct.kinematics.planner import Plan, plan_kinematics
+from mjstruct.kinematics.model import CLOSURE_TOL, KinematicModel, Motion
+from mjstruct.kinematics.planner import Plan
 from mjstruct.mechanism import Mechanism
 
 #: |det| of the driver-fixed Jacobian below this fraction of its largest value is flagged
@@ -47,9 +48,7 @@ class KinematicsResult:
     acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa}.
     """
 
-    mechanism: Mechanism
-    plan: Plan
-    geometry: Geometry
+    model: KinematicModel
     q: np.ndarray
     speed: float
     valid: np.ndarray
@@ -61,6 +60,21 @@ class KinematicsResult:
     checks: dict[str, Any]
     closure: Closure | None = None
     jacobian: JacobianCheck | None = field(default=None, repr=False)
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The mechanism analysed."""
+        return self.model.mechanism
+
+    @property
+    def plan(self) -> Plan:
+        """The plan the analysis ran."""
+        return self.model.plan
+
+    @property
+    def geometry(self) -> Geometry:
+        """The reference configuration."""
+        return self.model.geometry
 
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (nulls where a frame does not assemble)."""
@@ -134,123 +148,62 @@ class KinematicsResult:
         return names, data
 
 
-def sweep(
-    geom: Geometry, plan: Plan, m: Mechanism, frames: int, speed: float, stroke: float
-) -> np.ndarray:
-    """N frames over one cycle from the reference: a full turn, or ``stroke`` for a slide."""
-    if frames < 1:
-        raise MechanismError(f"--frames: must be >= 1, got {frames}")
-    if speed == 0:
-        raise MechanismError("--speed: must not be zero")
-    cols = []
-    for d in plan.drivers:
-        span = 2 * np.pi if m.joint(d).kind == "R" else stroke
-        cols.append(geom.driver_ref[d] + np.sign(speed) * span * np.arange(frames) / frames)
-    return np.column_stack(cols)
-
-
-def kinematics(
-    m: Mechanism,
+def kinematic_analysis(
+    model: KinematicModel | Mechanism,
     drivers: Iterable[str] | None = None,
     frames: int = 360,
     speed: float = 1.0,
     q: Sequence[float] | np.ndarray | None = None,
     stroke: float = 1.0,
     decomposition: object | None = None,
-    tol: float = 1e-12,
+    tol: float = CLOSURE_TOL,
     checks: bool = True,
-    plan: Plan | None = None,
 ) -> KinematicsResult:
-    """Positions, analogs, velocities and accelerations of ``m`` over a driver sweep.
+    """Positions, analogs, velocities and accelerations over a driver sweep.
 
     Parameters
     ----------
+    model : a :class:`~mjstruct.kinematics.model.KinematicModel`, or a mechanism to
+        build one from (with ``drivers`` and ``decomposition``).
     drivers : generalised coordinates (default: the file's drivers); any joint's
-        relative angle or slide, not only a frame joint.
+        relative angle or slide, not only a frame joint.  Only with a mechanism.
     frames, speed : ``frames`` frames over one full cycle from the reference
         configuration, every driver at constant speed ``speed`` (rad/s or length/s).
     q : explicit driver values instead (frames, or frames × drivers), taken as a path.
     stroke : the sweep of a prismatic driver.
+    decomposition : an Assur decomposition to plan on (only with a mechanism).
     tol : closure tolerance (relative to the mechanism's size) for iterated groups.
     checks : run the checks (link lengths, analogs vs differences, Jacobian).
-    plan : a plan from :func:`~mjstruct.kinematics.planner.plan_kinematics` to reuse
-        (its drivers are used).
     """
-    if plan is not None:
-        drv = plan.drivers
-        geom = read_geometry(m, drv)
+    if isinstance(model, KinematicModel):
+        if drivers is not None or decomposition is not None:
+            raise MechanismError(
+                "drivers: give drivers and decomposition when building the model, not here"
+            )
+        km = model
     else:
-        drv = tuple(m.drivers if drivers is None else drivers)
-        geom = read_geometry(m, drv)
-        plan = plan_kinematics(m, drv, decomposition=decomposition, geometry=geom)
-    if q is None:
-        qa = sweep(geom, plan, m, frames, speed, stroke)
-    else:
-        qa = np.asarray(q, float)
-        qa = qa[:, None] if qa.ndim == 1 else qa
-        if qa.ndim != 2 or qa.shape[1] != len(drv) or qa.shape[0] < 1:
-            raise MechanismError(f"q: expected frames × {len(drv)} driver values")
-        if not np.isfinite(qa).all():
-            raise MechanismError("q: driver values must be finite")
-    rates = np.ones(len(drv))
-    warnings: list[str] = []
-    sol = None
-    t = t1 = t2 = None
-    if plan.unknowns:
-        sol = close(plan, geom, m, qa, rates, tol=tol)
-        # frames that did not close carry no configuration (null, reported)
-        t = np.where(sol.converged[:, None], sol.t, np.nan)
-        t1, t2 = sol.t1, sol.t2
-        if sol.jumps:
-            i = sol.jumps[0]
-            warnings.append(
-                f"closure: the unknowns change faster than their derivative allows at "
-                f"{len(sol.jumps)} frame(s), first q = {qa[i, 0]:.9g}: possible jump to "
-                "another branch (a near-singular group or too coarse frames)"
-            )
-        bad = ~sol.converged
-        if bad.any():
-            warnings.append(
-                f"closure did not converge to {tol:g} on {int(bad.sum())} frame(s) "
-                f"(first q = {qa[np.argmax(bad), 0]:.9g}); their values are null"
-            )
-    with np.errstate(all="ignore"):
-        ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2)
-        K, events = track_branches(plan, geom, m, qa, t, first=ev)
-        if any(e.action == "switched" for e in events):
-            ev = evaluate(plan, geom, m, qa, order=2, rates=rates, t=t, t1=t1, t2=t2, K=K)
-    result = _collect(m, plan, geom, qa, speed, ev)
-    if plan.unknowns == 0 and ev.residuals:
-        # redundant constraints: they must hold along the motion, else it stops there
-        worst = np.abs(ev.residual_matrix(0)).max(axis=1)
-        broken = ~(worst <= 1e-9 * geom.scale)
-        result.valid &= ~broken
-        if broken.any():
-            warnings.append(
-                f"redundant constraint violated on {int(broken.sum())} frame(s) (first q = "
-                f"{qa[np.argmax(broken), 0]:.9g}): the mechanism cannot move there"
-            )
-        else:
-            warnings.append(
-                f"redundant constraint(s) hold on all frames (max error {worst.max():.3g})"
-            )
-    if sol is not None:
-        result.valid &= sol.converged
-        result.closure = sol
-    result.events = events
-    warnings += [e.message() for e in events]
-    warnings += _parallel_guides(plan, ev, qa)
+        km = KinematicModel.build(model, drivers, decomposition)
+    if not np.isfinite(speed) or speed == 0:
+        raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
+    qa = km.sweep(frames, speed, stroke) if q is None else km.driver_values(q)
+    motion = km.motion(qa, order=2, tol=tol)
+    result = _collect(motion, speed)
+    warnings = list(motion.warnings)
+    warnings += [e.message() for e in motion.events]
+    warnings += _parallel_guides(km.plan, motion.evaluation, qa)
     warnings += _infeasible(result)
     result.warnings = warnings
     if checks:
-        _checks(result, ev)
+        _checks(result, motion.evaluation)
     return result
 
 
-def _collect(m: Mechanism, plan: Plan, geom: Geometry, q, speed: float, ev: Evaluation):
+def _collect(motion: Motion, speed: float) -> KinematicsResult:
+    km, ev, q = motion.model, motion.evaluation, motion.q
+    m, geom = km.mechanism, km.geometry
     W = float(speed)
     joints: dict[str, dict[str, np.ndarray]] = {}
-    valid = np.ones(q.shape[0], bool)
+    valid = motion.valid.copy()
 
     def pack(X) -> dict[str, np.ndarray]:
         nonlocal valid
@@ -284,7 +237,9 @@ def _collect(m: Mechanism, plan: Plan, geom: Geometry, q, speed: float, ev: Eval
             "kappa": p.w[1],
         }
         valid &= np.isfinite(p.w[0]) & np.isfinite(p.w[1])
-    return KinematicsResult(m, plan, geom, q, W, valid, joints, points, links, [], [], {})
+    return KinematicsResult(
+        km, q, W, valid, joints, points, links, list(motion.events), [], {}, motion.closure
+    )
 
 
 def _parallel_guides(plan: Plan, ev: Evaluation, q: np.ndarray) -> list[str]:

@@ -1,0 +1,251 @@
+"""The kinematic model: a mechanism, its reference geometry and its plan, frozen together.
+
+Owns :class:`KinematicModel` (what the solver, the closure, the branch tracking, the
+checks, the dynamics and the drawings all take) and :class:`Motion`, the solved
+position functions of a model over a set of driver values: the poses of every link as
+jets ``[value, d/dτ, d²/dτ²]``, which frames assemble, the closure unknowns and the
+branch points met.  A model is built once (reading the geometry and planning are the
+costly parts) and then solved on as many driver values as needed.
+
+Examples
+--------
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
+>>> model.drivers, model.frame
+(('O1',), '0')
+>>> motion = model.motion(model.sweep(frames=4))
+>>> bool(motion.valid.all()), len(motion.q)
+(True, 4)
+>>> x = motion.centre("B")[0]          # centre of joint B over the four frames
+>>> bool(abs(x[0] - model.geometry.centres["B"]) < 1e-12)   # frame 0 is the reference
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.errors import MechanismError
+from mjstruct.kinematics.branches import BranchEvent, track_branches
+from mjstruct.kinematics.closure import Closure, close
+from mjstruct.kinematics.evaluate import Evaluation, evaluate
+from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.planner import Plan, plan_kinematics
+from mjstruct.kinematics.triangles import Jet
+from mjstruct.mechanism import Mechanism
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+
+#: default closure tolerance, relative to the mechanism's size
+CLOSURE_TOL = 1e-12
+
+
+@dataclass(frozen=True)
+class KinematicModel:
+    """A mechanism with its reference geometry and the plan of its position analysis.
+
+    Build it with :meth:`build`; the three parts are read-only and travel together.
+
+    Attributes
+    ----------
+    mechanism : the link–joint graph (with ``at``/``axis`` geometry).
+    geometry : the reference configuration read from the file.
+    plan : the triangle steps (and closure unknowns) for the chosen drivers.
+    """
+
+    mechanism: Mechanism
+    geometry: Geometry
+    plan: Plan
+
+    @classmethod
+    def build(
+        cls,
+        mechanism: Mechanism,
+        drivers: Iterable[str] | None = None,
+        decomposition: object | None = None,
+    ) -> KinematicModel:
+        """Read the geometry and plan the analysis for ``drivers`` (default: the file's).
+
+        Parameters
+        ----------
+        mechanism : a mechanism whose joints carry ``at`` (and ``axis`` for sliders).
+        drivers : joint ids of the generalised coordinates.
+        decomposition : an Assur decomposition to follow (default: computed).
+
+        Raises
+        ------
+        MechanismError
+            missing geometry, or drivers that do not determine the mechanism.
+        """
+        drv = tuple(mechanism.drivers if drivers is None else drivers)
+        geometry = read_geometry(mechanism, drv)
+        plan = plan_kinematics(mechanism, drv, decomposition=decomposition, geometry=geometry)
+        return cls(mechanism, geometry, plan)
+
+    @property
+    def drivers(self) -> tuple[str, ...]:
+        """The driver joints (generalised coordinates), in order."""
+        return self.plan.drivers
+
+    @property
+    def frame(self) -> str:
+        """The frame link."""
+        return self.plan.frame
+
+    @property
+    def scale(self) -> float:
+        """The mechanism's size: the largest distance between two joint centres."""
+        return self.geometry.scale
+
+    @property
+    def q_ref(self) -> FloatArray:
+        """Driver coordinates at the reference configuration."""
+        return np.array([self.geometry.driver_ref[d] for d in self.drivers])
+
+    def sweep(self, frames: int, speed: float = 1.0, stroke: float = 1.0) -> FloatArray:
+        """Driver values (frames × drivers) over one cycle from the reference.
+
+        A revolute driver turns a full turn, a prismatic one slides ``stroke``; frames
+        are equally spaced with the end point excluded, in the direction of ``speed``.
+        """
+        if frames < 1:
+            raise MechanismError(f"frames: must be >= 1, got {frames}")
+        if not np.isfinite(speed) or speed == 0:
+            raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
+        cols = []
+        for d in self.drivers:
+            span = 2 * np.pi if self.mechanism.joint(d).kind == "R" else stroke
+            ref = self.geometry.driver_ref[d]
+            cols.append(ref + np.sign(speed) * span * np.arange(frames) / frames)
+        return np.column_stack(cols)
+
+    def driver_values(self, q: Sequence[float] | npt.ArrayLike) -> FloatArray:
+        """``q`` checked and shaped as frames × drivers."""
+        qa = np.asarray(q, float)
+        qa = qa[:, None] if qa.ndim == 1 else qa
+        if qa.ndim != 2 or qa.shape[1] != len(self.drivers) or qa.shape[0] < 1:
+            raise MechanismError(f"q: expected frames × {len(self.drivers)} driver values")
+        if not np.isfinite(qa).all():
+            raise MechanismError("q: driver values must be finite")
+        return qa
+
+    def motion(
+        self,
+        q: Sequence[float] | npt.ArrayLike,
+        order: int = 2,
+        rates: Sequence[float] | None = None,
+        tol: float = CLOSURE_TOL,
+    ) -> Motion:
+        """Solve the position functions on driver values ``q`` (taken as a path).
+
+        Parameters
+        ----------
+        q : frames × drivers (or one value per frame for one driver).
+        order : 0 positions only, 1 with first, 2 with second derivatives.
+        rates : dq_i/dτ of each driver along the path (default 1: the derivatives
+            are the analogs σ = ds/dq and κ = dσ/dq of a one-driver mechanism).
+        tol : closure tolerance (relative to :attr:`scale`) for iterated groups.
+        """
+        qa = self.driver_values(q)
+        rate = np.ones(len(self.drivers)) if rates is None else np.asarray(rates, float)
+        plan, geom, m = self.plan, self.geometry, self.mechanism
+        warnings: list[str] = []
+        sol: Closure | None = None
+        t = t1 = t2 = None
+        if plan.unknowns:
+            sol = close(plan, geom, m, qa, rate, tol=tol)
+            # frames that did not close carry no configuration (null, reported)
+            t = np.where(sol.converged[:, None], sol.t, np.nan)
+            t1, t2 = sol.t1, sol.t2
+            if sol.jumps:
+                i = sol.jumps[0]
+                warnings.append(
+                    f"closure: the unknowns change faster than their derivative allows at "
+                    f"{len(sol.jumps)} frame(s), first q = {qa[i, 0]:.9g}: possible jump to "
+                    "another branch (a near-singular group or too coarse frames)"
+                )
+            bad = ~sol.converged
+            if bad.any():
+                warnings.append(
+                    f"closure did not converge to {tol:g} on {int(bad.sum())} frame(s) "
+                    f"(first q = {qa[np.argmax(bad), 0]:.9g}); their values are null"
+                )
+        with np.errstate(all="ignore"):
+            ev = evaluate(plan, geom, m, qa, order=order, rates=rate, t=t, t1=t1, t2=t2)
+            K, events = track_branches(plan, geom, m, qa, t, first=ev)
+            if any(e.action == "switched" for e in events):
+                ev = evaluate(plan, geom, m, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K)
+        valid = np.ones(qa.shape[0], bool)
+        for pose in ev.poses.values():
+            for part in (pose.r, *pose.A, *pose.w):
+                valid &= np.isfinite(part)
+        if plan.unknowns == 0 and ev.residuals:
+            # redundant constraints: they must hold along the motion, else it stops there
+            worst = np.abs(ev.residual_matrix(0)).max(axis=1)
+            broken = ~(worst <= 1e-9 * geom.scale)
+            valid &= ~broken
+            if broken.any():
+                warnings.append(
+                    f"redundant constraint violated on {int(broken.sum())} frame(s) (first "
+                    f"q = {qa[np.argmax(broken), 0]:.9g}): the mechanism cannot move there"
+                )
+            else:
+                warnings.append(
+                    f"redundant constraint(s) hold on all frames (max error {worst.max():.3g})"
+                )
+        if sol is not None:
+            valid &= sol.converged
+        return Motion(self, qa, order, ev, valid, sol, tuple(events), tuple(warnings))
+
+
+@dataclass(frozen=True)
+class Motion:
+    """Position functions of a :class:`KinematicModel` solved over driver values.
+
+    Attributes
+    ----------
+    model : the model solved.
+    q : driver values, frames × drivers.
+    order : derivatives carried (0, 1 or 2).
+    evaluation : the poses of every link (jets over the frames) and step diagnostics.
+    valid : frames that assemble (and close).
+    closure : the closure unknowns, for plans that iterate.
+    events : branch points met.
+    warnings : what the user must know about these frames (closure, redundant
+        constraints); branch events and infeasible runs are in ``events``/``valid``.
+    """
+
+    model: KinematicModel
+    q: FloatArray
+    order: int
+    evaluation: Evaluation
+    valid: BoolArray
+    closure: Closure | None
+    events: tuple[BranchEvent, ...]
+    warnings: tuple[str, ...]
+
+    def centre(self, joint: str) -> Jet:
+        """Jet of a joint centre, ``x + iy`` (a slider: the point its second link carries)."""
+        return self.evaluation.centre(joint)
+
+    def point(self, link: str, at: complex) -> Jet:
+        """Jet of the point of ``link`` whose reference position is ``at``."""
+        return self.evaluation.poses[link].point(at)
+
+    def angle(self, link: str) -> Jet:
+        """Jet of a link's characteristic angle (continued over the frames, not wrapped)."""
+        pose = self.evaluation.poses[link]
+        n = self.q.shape[0]
+        if link == self.model.frame:
+            return [np.zeros(n)] + [np.zeros(n)] * self.order
+        theta = np.angle(pose.r)
+        ok = np.isfinite(theta)
+        if ok.any():
+            theta[ok] = np.unwrap(theta[ok])
+        return [theta + self.model.geometry.char_angle[link], *pose.w[: self.order]]
