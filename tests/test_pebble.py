@@ -260,3 +260,17 @@ def test_driven_dof_matches_jacobian_with_driver_rows(m):
 def test_rigidity_result_fields():
     r = rigidity(Mechanism.build([("a", [0, 1]), ("b", [0, 1])]))
     assert r.rank == 3 and r.dof == 0 and len(r.redundant) == 1
+
+
+@settings(max_examples=40, deadline=None)
+@given(chains(max_links=7), st.data())
+def test_driver_balance_matches_jacobian_with_driver_rows(m, data):
+    from mjstruct.structure.drivers import driver_balance
+
+    ids = [j.id for j in m.joints]
+    drivers = data.draw(st.lists(st.sampled_from(ids), unique=True, max_size=4))
+    b = driver_balance(m, drivers)
+    held = numeric_rank(m, fixed=["0"], drivers=drivers)
+    assert b.dof_left == 3 * (m.n - 1) - held
+    # each redundant driver adds a row but not to the rank
+    assert len(b.redundant_drivers) == numeric_rank(m, fixed=["0"]) + len(drivers) - held

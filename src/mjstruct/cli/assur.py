@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from mjstruct.cli.output import driver_list, emit_json, emit_text
+from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 
@@ -69,7 +69,8 @@ def run(args: argparse.Namespace) -> int:
     if args.all_choices:
         choices = driver_choices(m.with_drivers(drivers or m.drivers), any_joint=args.any_joint)
     if drivers is not None or m.drivers or not choices:
-        d = assur_groups(m, drivers)
+        with flag_names(**({"drivers": "--drivers"} if drivers is not None else {})):
+            d = assur_groups(m, drivers)
         out = d.to_dict()
         text = d.render()
     else:  # no drivers given: report the best admissible choice

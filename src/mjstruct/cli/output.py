@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import json
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError
@@ -52,13 +54,42 @@ def emit_text(text: str) -> None:
     sys.stdout.write(text.rstrip("\n") + "\n")
 
 
+@contextmanager
+def flag_names(**flags: str) -> Iterator[None]:
+    """Re-raise a library error that names a parameter as one naming the command's flag.
+
+    Library functions speak of their parameters (``drivers: ...``); inside this block
+    an error whose message starts with a parameter given here is re-raised with the
+    flag instead, for the values that came from the command line.
+
+    >>> try:
+    ...     with flag_names(drivers="--drivers"):
+    ...         raise MechanismError("drivers: 'X' is not a joint id")
+    ... except MechanismError as exc:
+    ...     print(exc)
+    --drivers: 'X' is not a joint id
+    """
+    try:
+        yield
+    except MechanismError as exc:
+        text = str(exc)
+        for name, flag in flags.items():
+            if text.startswith(name + ":"):
+                raise MechanismError(flag + text[len(name) :]) from None
+        raise
+
+
 def driver_list(text: str | None, m: Mechanism) -> list[str] | None:
-    """``--drivers J1,J2`` as joint ids of ``m`` (None when the option was not given)."""
+    """``--drivers J1,J2`` as joint ids of ``m`` (None when the option was not given).
+
+    Checks that each is a joint id named once; whether they drive the mechanism is
+    the analysis's check (:func:`mjstruct.structure.drivers.validate_drivers`).
+    """
+    from mjstruct.structure.drivers import validate_drivers
+
     if text is None:
         return None
     drivers = [d.strip() for d in text.split(",") if d.strip()]
-    known = {j.id for j in m.joints}
-    for d in drivers:
-        if d not in known:
-            raise MechanismError(f"--drivers: {d!r} is not a joint id")
+    with flag_names(drivers="--drivers"):
+        validate_drivers(m, drivers, balance=False)
     return drivers

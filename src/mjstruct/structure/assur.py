@@ -46,6 +46,7 @@ from typing import Any
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Joint, Mechanism
+from mjstruct.structure.drivers import validate_drivers
 from mjstruct.structure.pebble import PebbleGame, body_components, pin_edges
 
 ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 7: "VII", 8: "VIII", 9: "IX"}
@@ -537,8 +538,9 @@ def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decompos
     >>> [(g.links, g.klass, g.order) for g in d.groups]
     [(('2', '3', '4', '5'), 4, 2)]
     """
-    drivers = tuple(m.drivers if drivers is None else drivers)
-    _check_drivers(m, drivers)
+    if m.frame is None:
+        raise MechanismError("frame: the decomposition needs a frame link")
+    drivers = validate_drivers(m, drivers)
     model = _Model(m, drivers)
     redundant, dof_left = _balance(model)
     if redundant or dof_left:

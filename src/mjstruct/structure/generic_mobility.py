@@ -33,7 +33,7 @@ from typing import Any
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assortments import simple_joint_count
 from mjstruct.structure.mobility import dof_grubler
-from mjstruct.structure.pebble import _chain_joints, _play, body_components
+from mjstruct.structure.pebble import body_components, chain_joints, play_chain
 
 
 @dataclass(frozen=True)
@@ -118,8 +118,8 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
     ``free_links`` the links still movable with the drivers held.
     """
     index = {x: k for k, x in enumerate(m.links)}
-    joints = _chain_joints(m, index)
-    game, _, res = _play(m.links, joints)
+    joints = chain_joints(m, index)
+    game, _, res = play_chain(m.links, joints)
     p = simple_joint_count(m)
     F_formula = dof_grubler(m.n, p)
     comps = [

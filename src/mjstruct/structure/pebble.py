@@ -197,7 +197,8 @@ def pin_edges(
     return capacities, edges
 
 
-def _chain_joints(m: Mechanism, index: dict[str, int]) -> list[tuple[str, str, list[int]]]:
+def chain_joints(m: Mechanism, index: dict[str, int]) -> list[tuple[str, str, list[int]]]:
+    """The chain's joints as ``(joint id, kind, body indices)`` for :func:`pin_edges`."""
     return [(j.id, j.kind, [index[x] for x in j.links]) for j in m.joints]
 
 
@@ -222,9 +223,14 @@ class RigidityResult:
         return 3 * (self.n - 1) - self.rank
 
 
-def _play(
+def play_chain(
     links: Sequence[str], joints: Iterable[tuple[str, str, Sequence[int]]]
 ) -> tuple[PebbleGame, list[tuple[int, int, str]], RigidityResult]:
+    """Play the game on a chain: the final game, its edges and the rigidity result.
+
+    ``joints`` as from :func:`chain_joints`; bodies are ``0..len(links)-1``.  The game
+    is returned so that callers can add further bars (drivers) or read components.
+    """
     n = len(links)
     capacities, edges = pin_edges(n, joints)
     game = PebbleGame(capacities)
@@ -269,7 +275,7 @@ def rigidity(m: Mechanism) -> RigidityResult:
     (0, ('C',), ((('0', '1', '2', '3'), 1),))
     """
     index = {x: k for k, x in enumerate(m.links)}
-    return _play(m.links, _chain_joints(m, index))[2]
+    return play_chain(m.links, chain_joints(m, index))[2]
 
 
 def pebble_rank(m: Mechanism) -> int:
@@ -285,8 +291,8 @@ def generic_dof(m: Mechanism) -> int:
 def rigid_components(m: Mechanism, min_links: int = 2) -> list[tuple[str, ...]]:
     """Maximal rigid sub-chains with at least ``min_links`` links (drivers ignored)."""
     index = {x: k for k, x in enumerate(m.links)}
-    joints = _chain_joints(m, index)
-    game, _, _ = _play(m.links, joints)
+    joints = chain_joints(m, index)
+    game, _, _ = play_chain(m.links, joints)
     comps = body_components(game, len(m.links), joints)
     out = [tuple(m.links[w] for w in c) for c in comps if len(c) >= min_links]
     return sorted(out, key=lambda c: (-len(c), c))
