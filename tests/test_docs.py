@@ -1,0 +1,93 @@
+"""The documentation stands alone: no links out of the repository, no broken links.
+
+README.md, docs/*.md and the examples' README are read by people who have only the repository. A link must
+resolve to a file inside it, and the prose must not lean on material the repository
+does not contain (project-internal specification paths, source papers named by an
+internal file number instead of by author, title, journal and year).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+PAGES = sorted(
+    [ROOT / "README.md", ROOT / "catalogs/examples/README.md", *(ROOT / "docs").glob("*.md")]
+)
+
+# [text](target) and ![alt](target); the target ends at whitespace or ')'.
+LINK = re.compile(r"!?\[[^\]]*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
+# Forbidden phrases and why: each names something a reader of the repository lacks.
+FORBIDDEN = {
+    r"\.\./shared": "a path outside the repository",
+    r"shared/spec": "the internal specification",
+    r"(?i)\bseed[ -]?0\d\d\b(?!\S*\.json)": "a source paper by internal number",
+    r"(?i)\bthe seed\b|\bseed's\b": "a source paper by internal name",
+    r"(?i)\bthe brief\b": "an internal task description",
+    r"(?i)\bfrom the issue\b|\bthe issue's\b": "an internal issue",
+    r"(?i)\bnamed by the user\b": "an internal request",
+}
+
+
+def _rel(page: Path) -> str:
+    return page.relative_to(ROOT).as_posix()
+
+
+def _links(text: str) -> list[str]:
+    return [m.group(1) for m in LINK.finditer(text)]
+
+
+def _is_external(target: str) -> bool:
+    return re.match(r"^[a-zA-Z][a-zA-Z0-9+.-]*:", target) is not None
+
+
+def test_pages_found() -> None:
+    names = {_rel(p) for p in PAGES}
+    assert {"README.md", "docs/contract.md", "docs/references.md"} <= names
+
+
+@pytest.mark.parametrize("page", PAGES, ids=_rel)
+def test_no_reference_to_material_outside_the_repository(page: Path) -> None:
+    text = page.read_text(encoding="utf-8")
+    hits = [
+        f"{_rel(page)}:{text.count(chr(10), 0, m.start()) + 1}: {why}: {m.group(0)!r}"
+        for pattern, why in FORBIDDEN.items()
+        for m in re.finditer(pattern, text)
+    ]
+    assert not hits, "\n".join(hits)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=_rel)
+def test_relative_links_resolve_inside_the_repository(page: Path) -> None:
+    bad = []
+    for target in _links(page.read_text(encoding="utf-8")):
+        if _is_external(target) or target.startswith("#"):
+            continue
+        path = (page.parent / target.split("#", 1)[0]).resolve()
+        if not path.is_relative_to(ROOT):
+            bad.append(f"{target}: outside the repository")
+        elif not path.exists():
+            bad.append(f"{target}: no such file")
+    assert not bad, f"{_rel(page)}: " + "; ".join(bad)
+
+
+def test_link_checker_catches_what_it_should(tmp_path: Path) -> None:
+    # the patterns must match the defects they exist for, and spare file names
+    text = (
+        "see [spec](../shared/spec/05-contract.md), seed 002 and Seed-003; "
+        "the seed's table; ![fig](img/x.png) and [w](https://example.org)"
+    )
+    assert _links(text) == ["../shared/spec/05-contract.md", "img/x.png", "https://example.org"]
+    found = {why for pattern, why in FORBIDDEN.items() if re.search(pattern, text)}
+    assert found == {
+        "a path outside the repository",
+        "the internal specification",
+        "a source paper by internal number",
+        "a source paper by internal name",
+    }
+    clean = "catalogs/examples/seed002-ex1-needle-drive.json, class-iv-seed003.json, seeded"
+    assert not any(re.search(pattern, clean) for pattern in FORBIDDEN)
+    assert _is_external("https://example.org") and not _is_external("docs/contract.md")
