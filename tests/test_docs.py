@@ -2,8 +2,9 @@
 
 README.md, docs/*.md and the examples' README are read by people who have only the
 repository. A link must resolve to a file inside it, and the prose must not lean on
-material the repository does not contain (project-internal specification paths, source papers named by an
-internal file number instead of by author, title, journal and year).
+material the repository does not contain (project-internal specification paths,
+source papers named by an internal file number instead of by author, title, journal
+and year).
 """
 
 from __future__ import annotations
