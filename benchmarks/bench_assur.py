@@ -20,9 +20,10 @@ import numpy as np
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
 from mjstruct.mechanism import Mechanism
-from mjstruct.structure.assur import assur_groups, random_mechanism
+from mjstruct.structure.assur import assur_groups
 from mjstruct.structure.generic_mobility import generic_mobility
 from mjstruct.structure.pebble import pebble_rank
+from mjstruct.testing import random_mechanism
 from timing import median_time
 
 

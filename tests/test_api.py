@@ -39,7 +39,6 @@ PUBLIC = [
     "generic_mobility",
     "pebble_rank",
     "plot_decomposition",
-    "random_mechanism",
     "rigid_components",
     "rigidity",
     "Assortment",

@@ -22,8 +22,8 @@ from mjstruct.structure.assur import (
     assur_groups,
     driver_choices,
     group_class,
-    random_mechanism,
 )
+from mjstruct.testing import random_mechanism
 from test_pebble import constraint_rows
 
 

@@ -47,7 +47,6 @@ _EXPORTS: dict[str, str] = {
     "AssurGroup": "mjstruct.structure.assur",
     "Decomposition": "mjstruct.structure.assur",
     "DriverChoice": "mjstruct.structure.assur",
-    "random_mechanism": "mjstruct.structure.assur",
     "generic_mobility": "mjstruct.structure.generic_mobility",
     "GenericMobility": "mjstruct.structure.generic_mobility",
     "pebble_rank": "mjstruct.structure.pebble",
@@ -110,7 +109,6 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         DriverChoice,
         assur_groups,
         driver_choices,
-        random_mechanism,
     )
     from mjstruct.structure.codes import full_code, parse_code, structural_code
     from mjstruct.structure.generic_mobility import GenericMobility, generic_mobility

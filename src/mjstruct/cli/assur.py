@@ -67,7 +67,10 @@ def run(args: argparse.Namespace) -> int:
     text = ""
     choices = None
     if args.all_choices:
-        choices = driver_choices(m.with_drivers(drivers or m.drivers), any_joint=args.any_joint)
+        with flag_names(limit="--all-choices"):
+            choices = driver_choices(
+                m.with_drivers(drivers or m.drivers), any_joint=args.any_joint
+            )
     if drivers is not None or m.drivers or not choices:
         with flag_names(**({"drivers": "--drivers"} if drivers is not None else {})):
             d = assur_groups(m, drivers)

@@ -1,0 +1,96 @@
+"""Random mechanisms with a known structure, for property tests and benchmarks.
+
+This module owns :func:`random_mechanism`: a one-DOF mechanism grown from a crank by
+dyads, triads and class-IV groups, so that its Assur decomposition is known by
+construction.  It is not part of the pinned public API.
+
+>>> m = random_mechanism(3, seed=2)
+>>> m.frame, m.drivers
+('0', ('J0',))
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, field
+
+from mjstruct.mechanism import Mechanism
+
+
+@dataclass
+class _Grower:
+    rng: random.Random
+    joints: list[tuple[str, list[str], str]] = field(default_factory=list)
+    placed: list[str] = field(default_factory=list)
+    used: set[str] = field(default_factory=set)  # joints extended by the current group
+    count: int = 0
+
+    def new_link(self) -> str:
+        self.count += 1
+        return str(self.count)
+
+    def attach(self, link: str, mj: float, known: int) -> None:
+        """Pin ``link`` to a placed link: on a known R joint (making an MJ) or anew."""
+        # a joint takes one link of a group at most: two would be pinned twice together
+        rj = [j for j in self.joints[:known] if j[2] == "R" and j[0] not in self.used]
+        if rj and self.rng.random() < mj:
+            joint = self.rng.choice(rj)
+            joint[1].append(link)
+            self.used.add(joint[0])
+        else:
+            kind = "P" if self.rng.random() < 0.1 else "R"
+            self.joints.append(
+                (f"J{len(self.joints)}", [self.rng.choice(self.placed), link], kind)
+            )
+
+    def pin(self, a: str, b: str) -> None:
+        self.joints.append((f"J{len(self.joints)}", [a, b], "R"))
+
+
+def random_mechanism(groups: int, seed: int = 0, mj: float = 0.3) -> Mechanism:
+    """A random one-DOF mechanism grown from a crank by dyads, triads and class-IV groups.
+
+    External pins land on an existing revolute joint with probability ``mj`` (which
+    makes multiple joints).  Frame ``"0"``, driver ``"J0"``.
+
+    >>> m = random_mechanism(5, seed=1)
+    >>> m.frame, m.drivers, len(m.links) > 10
+    ('0', ('J0',), True)
+    """
+    g = _Grower(random.Random(seed), placed=["0"])
+    crank = g.new_link()
+    g.joints.append(("J0", ["0", crank], "R"))
+    g.placed.append(crank)
+    for _ in range(groups):
+        known = len(g.joints)  # joints whose position is known before this group
+        g.used.clear()
+        kind = g.rng.random()
+        if kind < 0.6:  # dyad
+            a, b = g.new_link(), g.new_link()
+            g.attach(a, mj, known)
+            g.attach(b, mj, known)
+            g.pin(a, b)
+            new = [a, b]
+        elif kind < 0.85:  # triad: ternary base and three legs
+            base = g.new_link()
+            legs = [g.new_link() for _ in range(3)]
+            for leg in legs:
+                g.pin(base, leg)
+                g.attach(leg, mj, known)
+            new = [base, *legs]
+        else:  # class IV: two ternary links and two binary links in a 4-contour
+            t1, b1, t2, b2 = (g.new_link() for _ in range(4))
+            g.pin(t1, b1)
+            g.pin(b1, t2)
+            g.pin(t2, b2)
+            g.pin(b2, t1)
+            g.attach(t1, mj, known)
+            g.attach(t2, mj, known)
+            new = [t1, b1, t2, b2]
+        g.placed += new
+    return Mechanism.build(
+        [(jid, links, kind) for jid, links, kind in g.joints],
+        frame="0",
+        drivers=["J0"],
+        name=f"random-{groups}-{seed}",
+    )
