@@ -72,7 +72,7 @@ PUBLIC = [
     "to_networkx",
 ]
 
-CLI = ["analyze", "assur", "atlas", "cells", "iso", "kinematics", "lookup"]
+CLI = ["analyze", "assur", "atlas", "cells", "convert", "iso", "kinematics", "lookup"]
 
 
 def test_public_names_pinned():
