@@ -134,14 +134,13 @@ def _canonical_faces(m: Mechanism) -> tuple[int, ...] | None:
     import networkx as nx
     import pynauty
 
-    from mjstruct.structure.isomorphism import _colour_classes
+    from mjstruct.structure.isomorphism import link_joint_lists, nauty_graph
 
-    classes, link_ix, joint_ix = _colour_classes(m, "chain")
-    adjacency = {joint_ix[j.id]: [link_ix[x] for x in j.links] for j in m.joints}
-    n_nodes = len(link_ix) + len(joint_ix)
-    pg = pynauty.Graph(
-        n_nodes, adjacency_dict=adjacency, vertex_coloring=[set(c) for c in classes]
-    )
+    n = len(m.links)
+    joints = link_joint_lists(m)
+    adjacency = {n + k: js for k, js in enumerate(joints)}
+    n_nodes = n + len(joints)
+    pg = nauty_graph(n, joints)
     order = pynauty.canon_label(pg)  # order[k] = original vertex placed k-th
     rank = {v: k for k, v in enumerate(order)}
     cg = nx.Graph()

@@ -32,6 +32,7 @@ from typing import Any
 import pynauty
 
 from mjstruct.errors import MechanismError
+from mjstruct.structure.isomorphism import nauty_graph
 from mjstruct.synthesis.contracted import Vertex, contracted_graphs, degree_sequences
 
 
@@ -126,11 +127,7 @@ def assur_atlas(n: int, workers: int = 1) -> list[AssurGroupChain]:
     out = []
     for joints in minimal_rigid_chains(n + 1, workers):
         m = n + 1
-        g = pynauty.Graph(
-            m + len(joints),
-            adjacency_dict={m + k: list(js) for k, js in enumerate(joints)},
-            vertex_coloring=[set(range(m)), set(range(m, m + len(joints)))],
-        )
+        g = nauty_graph(m, joints)
         orbits = pynauty.autgrp(g)[3]
         for ground in sorted({orbits[v] for v in range(m)}):
             keep = [v for v in range(m) if v != ground]

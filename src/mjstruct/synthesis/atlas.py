@@ -34,7 +34,6 @@ Examples
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -45,6 +44,7 @@ import pynauty
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.isomorphism import code_of, nauty_graph
 from mjstruct.synthesis.contracted import (
     ContractedGraph,
     Vertex,
@@ -137,15 +137,9 @@ class Atlas:
 def chain_code(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, bytes, pynauty.Graph]:
     """Canonical code (as ``canonical_code(m, "chain")``), certificate and nauty graph."""
     p = len(joints)
-    g = pynauty.Graph(
-        n + p,
-        adjacency_dict={n + k: list(js) for k, js in enumerate(joints)},
-        vertex_coloring=[set(range(n)), set(range(n, n + p))],
-    )
+    g = nauty_graph(n, joints)
     cert = pynauty.certificate(g)
-    sizes = f"{n}.{p}"
-    digest = hashlib.sha256(sizes.encode() + b"|" + cert).hexdigest()[:32]
-    return f"c{n}.{p}-{digest}", cert, g
+    return code_of("c", n, p, f"{n}.{p}", cert), cert, g
 
 
 def _canonical_joints(n: int, g: pynauty.Graph) -> tuple[tuple[int, ...], ...]:

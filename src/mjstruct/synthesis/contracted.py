@@ -31,6 +31,8 @@ from dataclasses import dataclass
 import networkx as nx
 import pynauty
 
+from mjstruct.structure.isomorphism import nauty_graph
+
 Vertex = tuple[str, int]  # (colour "L" or "J", degree)
 
 
@@ -104,20 +106,14 @@ def degree_sequences(K: int, mj: bool) -> list[tuple[Vertex, ...]]:
 def _certificate(colours: list[str], done: list[bool], residual: list[int], edges: list) -> bytes:
     """Nauty certificate of a (partial) multigraph; edges become coloured nodes."""
     nv = len(colours)
-    adjacency: dict[int, list[int]] = {}
-    classes: dict[tuple, set[int]] = {}
+    classes: dict[tuple[int, str, int], set[int]] = {}
     for v in range(nv):
         key = (0, colours[v], -1 if done[v] else residual[v])
         classes.setdefault(key, set()).add(v)
     for k, (u, v) in enumerate(edges):
-        node = nv + k
-        adjacency[node] = [u] if u == v else [u, v]
-        classes.setdefault((1, "loop" if u == v else "edge", 0), set()).add(node)
-    g = pynauty.Graph(
-        nv + len(edges),
-        adjacency_dict=adjacency,
-        vertex_coloring=[classes[k] for k in sorted(classes)],
-    )
+        classes.setdefault((1, "loop" if u == v else "edge", 0), set()).add(nv + k)
+    ends = [[u] if u == v else [u, v] for u, v in edges]
+    g = nauty_graph(nv, ends, [classes[k] for k in sorted(classes)])
     tag = repr(sorted((k, len(c)) for k, c in classes.items())).encode()
     return tag + b"|" + pynauty.certificate(g)
 
