@@ -92,3 +92,11 @@ def test_link_checker_catches_what_it_should(tmp_path: Path) -> None:
     clean = "catalogs/examples/seed002-ex1-needle-drive.json, class-iv-seed003.json, seeded"
     assert not any(re.search(pattern, clean) for pattern in FORBIDDEN)
     assert _is_external("https://example.org") and not _is_external("docs/contract.md")
+
+
+def test_every_shipped_example_is_described() -> None:
+    examples = ROOT / "catalogs" / "examples"
+    table = (examples / "README.md").read_text(encoding="utf-8")
+    listed = set(re.findall(r"[\w.-]+\.json", table))
+    missing = sorted(p.name for p in examples.glob("*.json") if p.name not in listed)
+    assert not missing, f"catalogs/examples/README.md does not describe {missing}"
