@@ -1,0 +1,76 @@
+"""``mjstruct dynamics FILE``: inverse dynamics at constant speed, or free one-DOF motion."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from mjstruct.cli.output import driver_list, emit_json, emit_text
+from mjstruct.errors import MechanismError
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", help="mechanism file with geometry and dynamics keys (.json or .toml)")
+    mode = p.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--speed", type=float, metavar="W", help="every driver at constant speed W")
+    mode.add_argument(
+        "--qdot0", type=float, metavar="W0", help="free motion under the loads from speed W0"
+    )
+    p.add_argument("--frames", type=int, default=360, help="frames over one cycle (default 360)")
+    p.add_argument("--drivers", help="generalised coordinates J1,J2 (default: the file's)")
+    p.add_argument(
+        "--method",
+        default="gauss",
+        choices=("gauss", "trapezoid", "fft", "adaptive"),
+        help="work integral: gauss (default, exact at jumps), trapezoid or fft on 2^n steps, adaptive",
+    )
+    p.add_argument("--n", type=int, default=10, help="2^n steps for trapezoid and fft (default 10)")
+    p.add_argument("--harmonics", type=int, help="Fourier terms kept by fft (default all)")
+    p.add_argument("--csv", metavar="OUT", help="write the table (q, qdot, ..., reactions) here")
+    p.add_argument("--json", action="store_true", help="print the contract's JSON object")
+
+
+def run(args: argparse.Namespace) -> int:
+    from mjstruct.dynamics.analysis import dynamic_analysis
+    from mjstruct.dynamics.report import render, write_csv
+    from mjstruct.io import read_mechanism
+
+    if args.frames < 1:
+        raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
+    if args.speed is not None and (not math.isfinite(args.speed) or args.speed == 0):
+        raise MechanismError("--speed: must be a finite nonzero number")
+    if args.qdot0 is not None and not math.isfinite(args.qdot0):
+        raise MechanismError("--qdot0: must be a finite number")
+    if not 1 <= args.n <= 24:
+        raise MechanismError(f"--n: must be in 1..24, got {args.n}")
+    if args.harmonics is not None and args.harmonics < 0:
+        raise MechanismError(f"--harmonics: must be >= 0, got {args.harmonics}")
+    m = read_mechanism(args.file)
+    drivers = driver_list(args.drivers, m)
+    try:
+        r = dynamic_analysis(
+            m,
+            speed=args.speed,
+            qdot0=args.qdot0,
+            frames=args.frames,
+            drivers=drivers,
+            method=args.method,
+            n=args.n,
+            harmonics=args.harmonics,
+        )
+    except MechanismError as exc:
+        text = str(exc)
+        for name in ("speed", "qdot0", "frames", "drivers"):
+            if text.startswith(f"{name}:"):
+                raise MechanismError(f"--{text}") from None
+        raise
+    if args.csv:
+        try:
+            write_csv(r, args.csv)
+        except OSError as exc:
+            raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None
+    if args.json:
+        emit_json(r.to_dict())
+    else:
+        emit_text(render(r))
+    return 0

@@ -1,0 +1,404 @@
+"""The dynamics entry point: :func:`dynamic_analysis` and its result.
+
+Owns the three ways a mechanism is driven — constant driver speed (inverse dynamics,
+any number of drivers), free one-DOF motion under the loads from a speed ``qdot0``,
+and a prescribed motion q(t) with its speeds and accelerations (API) — and the result
+object with its contract JSON.  Only the outputs asked for are computed.
+
+Examples
+--------
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> r = dynamic_analysis(read_mechanism(example_path("slider-crank-seed000-dynamics")),
+...                      qdot0=10.0, frames=36)
+>>> round(r.parameters["p"] * 9 / 3.141592653589793, 9)     # p = 10π/9
+10.0
+>>> round(r.balance, 4), r.check < 1e-9
+(0.2564, True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.dynamics.data import DynamicsData, read_dynamics
+from mjstruct.dynamics.equation import METHODS, PathForce, coefficients, free_motion, generalised_force, steady_parameter
+from mjstruct.dynamics.matrices import LinkMotion, active_forces, check_dimensions, link_motion
+from mjstruct.dynamics.reactions import (
+    generalised_drive,
+    inertia_loads,
+    solve_stack,
+    stack_loads,
+    system_matrix,
+    unknowns,
+)
+from mjstruct.errors import MechanismError
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.mechanism import Mechanism
+
+FloatArray = npt.NDArray[np.float64]
+
+#: what :func:`dynamic_analysis` can compute
+OUTPUTS = ("coefficients", "motion", "reactions", "driving", "check")
+
+#: frames whose system is worse conditioned than this are named in a warning
+ILL_CONDITIONED = 1e8
+
+
+@dataclass(frozen=True)
+class DynamicsResult:
+    """Arrays over the frames of a dynamic analysis (None where not computed).
+
+    Attributes
+    ----------
+    name : the mechanism's name.
+    mode : ``"speed"`` (constant driver speed), ``"free"`` (one-DOF motion from
+        ``qdot0``) or ``"prescribed"`` (q(t) given).
+    drivers : the driver joints.
+    q : driver values, frames × drivers (frames kept).
+    qdot, qddot : speeds and accelerations, frames × drivers.
+    V, W, Q : reduced inertia, its W term and the generalised force (one driver).
+    balance : min V / max V over the frames (one driver).
+    parameters : all parameters, the unknown solved.
+    cycle_work : work of the loads over one cycle with those parameters.
+    integration_error : estimated error of the cycle work (free motion).
+    driving : driver joint -> actuator torque or force on its second listed link.
+    reactions : joint -> link -> {``x``, ``y`` (and ``m`` for a slider)}: the load the
+        joint applies to the link (an MJ: one entry per link, summing to zero).
+    residual : per-frame relative residual of the excluded equation.
+    check : the largest of ``residual`` (None when no frame was solved).
+    condition : per-frame condition number of the link equations.
+    warnings : what the user must know.
+    """
+
+    name: str
+    mode: str
+    drivers: tuple[str, ...]
+    q: FloatArray
+    qdot: FloatArray
+    qddot: FloatArray
+    V: FloatArray | None = None
+    W: FloatArray | None = None
+    Q: FloatArray | None = None
+    balance: float | None = None
+    parameters: dict[str, float] = field(default_factory=dict)
+    cycle_work: float | None = None
+    integration_error: float | None = None
+    driving: dict[str, FloatArray] | None = None
+    reactions: dict[str, dict[str, dict[str, FloatArray]]] | None = None
+    residual: FloatArray | None = None
+    check: float | None = None
+    condition: FloatArray | None = None
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The contract's JSON object (lists; NaN as null)."""
+        out: dict[str, Any] = {"q": _list(self.q[:, 0])}
+        if self.mode != "speed" and self.V is not None:
+            out["V"] = _list(self.V)
+            out["W"] = _list(self.W)
+            out["Q"] = _list(self.Q)
+        if self.mode != "speed":
+            out["qdot"] = _list(self.qdot[:, 0])
+            out["qddot"] = _list(self.qddot[:, 0])
+            out["balance"] = _num(self.balance)
+        if self.parameters or self.mode == "free":
+            out["parameters"] = {k: _num(v) for k, v in self.parameters.items()}
+        if self.driving is not None:
+            out["driving"] = {k: _list(v) for k, v in self.driving.items()}
+        if self.reactions is not None:
+            out["reactions"] = {
+                j: {link: {c: _list(v) for c, v in comps.items()} for link, comps in per.items()}
+                for j, per in self.reactions.items()
+            }
+        if self.residual is not None:
+            out["check"] = _num(self.check)
+        out["warnings"] = list(self.warnings)
+        return out
+
+
+def _num(x: float | None) -> float | None:
+    return None if x is None or not np.isfinite(x) else float(x) + 0.0
+
+
+def _list(a: FloatArray | None) -> list[float | None]:
+    if a is None:
+        return []
+    return [float(x) + 0.0 if np.isfinite(x) else None for x in np.asarray(a, float)]
+
+
+def dynamic_analysis(
+    mechanism: Mechanism,
+    *,
+    speed: float | None = None,
+    qdot0: float | None = None,
+    q: npt.ArrayLike | None = None,
+    qdot: npt.ArrayLike | None = None,
+    qddot: npt.ArrayLike | None = None,
+    frames: int = 360,
+    drivers: Iterable[str] | None = None,
+    outputs: Collection[str] = OUTPUTS,
+    joints: Collection[str] | None = None,
+    parameters: Mapping[str, float] | None = None,
+    method: str = "gauss",
+    n: int = 10,
+    harmonics: int | None = None,
+    model: KinematicModel | None = None,
+) -> DynamicsResult:
+    """Dynamics of a mechanism with geometry and the dynamics keys (``inertia``, ``loads``, ...).
+
+    Exactly one way of driving it:
+
+    * ``speed=W``: every driver moves at constant speed W over one cycle in ``frames``
+      frames (inverse dynamics: reactions and the actuators' loads);
+    * ``qdot0=W0``: one driver, free motion under the loads from speed W0 at the
+      reference (V, W, Q, q̇, q̈, balance, the unknown parameter, reactions);
+    * ``q``, ``qdot``, ``qddot``: a prescribed motion (frames × drivers arrays).
+
+    Parameters
+    ----------
+    mechanism : the mechanism (``Mechanism.extra`` holds the dynamics keys).
+    outputs : any of :data:`OUTPUTS`; the rest is skipped.
+    joints : report reactions at these joints only (default all).
+    parameters : values overriding the file's (the unknown included).
+    method, n, harmonics : the work integral's method (see
+        :mod:`mjstruct.dynamics.equation`).
+    model : a kinematic model of ``mechanism`` to reuse.
+
+    Raises
+    ------
+    MechanismError
+        bad dynamics data (the message names the field) or bad arguments (named).
+
+    Notes
+    -----
+    The function is ``dynamic_analysis`` because ``mjstruct.dynamics`` is the
+    subpackage.
+    """
+    modes = [speed is not None, qdot0 is not None, q is not None]
+    if sum(modes) != 1:
+        raise MechanismError("speed: give exactly one of speed, qdot0 and q")
+    if frames < 1:
+        raise MechanismError(f"frames: must be >= 1, got {frames}")
+    if method not in METHODS:
+        raise MechanismError(f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})")
+    wanted = set(outputs)
+    unknown_out = wanted - set(OUTPUTS)
+    if unknown_out:
+        raise MechanismError(f"outputs: unknown output {sorted(unknown_out)[0]!r} (one of {', '.join(OUTPUTS)})")
+    data = read_dynamics(mechanism)
+    if parameters:
+        for k, v in parameters.items():
+            if k not in data.parameters:
+                raise MechanismError(f"parameters: {k!r} is not a parameter of the file")
+            if not np.isfinite(v):
+                raise MechanismError(f"parameters: {k!r} must be finite")
+        fixed = {**data.parameters, **{k: float(v) for k, v in parameters.items()}}
+        data = DynamicsData(
+            data.inertia, data.gravity, fixed, None if data.unknown in parameters else data.unknown,
+            data.loads, data.energy_change,
+        )
+    if model is None:
+        model = KinematicModel.build(mechanism, drivers)
+    D = len(model.drivers)
+    if D == 0:
+        raise MechanismError("drivers: dynamics needs at least one driver")
+    warnings: list[str] = []
+    links = tuple(x for x in mechanism.links if x != model.frame)
+    need_forces = bool(wanted & {"reactions", "driving", "check"})
+    if need_forces:
+        check_dimensions(model)
+
+    if speed is not None:
+        if not np.isfinite(speed) or speed == 0:
+            raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
+        qs = model.sweep(frames, speed)
+        path = PathForce(model, data, float(np.sign(speed)))
+        if data.unknown is not None:
+            params, cycle, err = steady_parameter(path, speed, method, n, harmonics)
+        else:
+            params, cycle, err = data.parameter_values(), None, None
+        qd = np.full(qs.shape, float(speed))
+        qdd = np.zeros(qs.shape)
+        result = DynamicsResult(
+            mechanism.name, "speed", model.drivers, qs, qd, qdd, parameters=params,
+            cycle_work=cycle, integration_error=err,
+        )
+        if D == 1 and "coefficients" in wanted:
+            mo = model.motion(qs, order=2)
+            V, W = coefficients(mo, data, links)
+            Qv = generalised_force(mo, data, links, qs[:, 0], qd[:, 0], [params])[0]
+            result = _replace(result, V=V, W=W, Q=Qv, balance=_balance(V))
+        if need_forces:
+            lm = link_motion(model, data.inertia, qs, qd, None)
+            result = _forces(result, model, data, lm, params, wanted, joints, warnings, free=False)
+    elif qdot0 is not None:
+        if D != 1:
+            raise MechanismError(f"qdot0: free motion needs one driver, the mechanism has {D}")
+        if not np.isfinite(qdot0):
+            raise MechanismError("qdot0: must be a finite number")
+        s = -1.0 if qdot0 < 0 else 1.0
+        u = 2 * np.pi * np.arange(frames) / frames
+        path = PathForce(model, data, s)
+        qs = path.q(u)
+        mo = model.motion(qs, order=2)
+        if not mo.valid.all():
+            bad = float(qs[np.argmax(~mo.valid), 0])
+            raise MechanismError(f"qdot0: the mechanism does not assemble over the cycle (q = {bad:.9g}); free motion needs a full cycle")
+        V, W = coefficients(mo, data, links)
+        if not (V > 0).all():
+            raise MechanismError("inertia: the reduced inertia V is zero somewhere; free motion needs masses that move")
+        fm = free_motion(path, u, V, W, float(qdot0), method, n, harmonics)
+        k = fm.kept
+        if fm.stop is not None:
+            warnings.append(
+                f"the motion stops at q = {fm.stop:.9g}: q̇² would turn negative there "
+                f"(the lists end at the last feasible frame, q = {qs[k - 1, 0]:.9g})"
+            )
+        qd = fm.qdot[:, None]
+        qdd = fm.qddot[:, None]
+        Qv = generalised_force(mo, data, links, qs[:, 0], np.concatenate([fm.qdot, np.zeros(frames - k)]), [fm.parameters])[0]
+        result = DynamicsResult(
+            mechanism.name, "free", model.drivers, qs[:k], qd, qdd,
+            V=V[:k], W=W[:k], Q=Qv[:k], balance=_balance(V[:k]),
+            parameters=fm.parameters, cycle_work=fm.cycle_work, integration_error=fm.error,
+        )
+        if need_forces:
+            lm = link_motion(model, data.inertia, qs[:k], qd, qdd, motion=mo if k == frames else None)
+            result = _forces(result, model, data, lm, fm.parameters, wanted, joints, warnings, free=True)
+    else:
+        qa = model.driver_values(q)
+        F = qa.shape[0]
+        if qdot is None:
+            raise MechanismError("qdot: a prescribed motion needs the driver speeds")
+        qd = np.broadcast_to(np.asarray(qdot, float).reshape(-1, D), (F, D)).copy()
+        qdd = (np.zeros((F, D)) if qddot is None else np.broadcast_to(np.asarray(qddot, float).reshape(-1, D), (F, D)).copy())
+        if not (np.isfinite(qd).all() and np.isfinite(qdd).all()):
+            raise MechanismError("qdot: speeds and accelerations must be finite")
+        if data.unknown is not None:
+            raise MechanismError(f"parameters.{data.unknown}: a prescribed motion needs its value (pass parameters=)")
+        params = data.parameter_values()
+        result = DynamicsResult(mechanism.name, "prescribed", model.drivers, qa, qd, qdd, parameters=params)
+        if D == 1 and "coefficients" in wanted:
+            mo = model.motion(qa, order=2)
+            V, W = coefficients(mo, data, links)
+            Qv = generalised_force(mo, data, links, qa[:, 0], qd[:, 0], [params])[0]
+            result = _replace(result, V=V, W=W, Q=Qv, balance=_balance(V))
+        if need_forces:
+            lm = link_motion(model, data.inertia, qa, qd, qdd)
+            result = _forces(result, model, data, lm, params, wanted, joints, warnings, free=False)
+    return _replace(result, warnings=tuple(warnings) + result.warnings)
+
+
+def _balance(V: FloatArray) -> float | None:
+    ok = V[np.isfinite(V)]
+    return float(ok.min() / ok.max()) if ok.size and ok.max() > 0 else None
+
+
+def _replace(r: DynamicsResult, **kw: Any) -> DynamicsResult:
+    import dataclasses
+
+    return dataclasses.replace(r, **kw)
+
+
+def _forces(
+    result: DynamicsResult,
+    model: KinematicModel,
+    data: DynamicsData,
+    lm: LinkMotion,
+    params: Mapping[str, float],
+    wanted: set[str],
+    joints: Collection[str] | None,
+    warnings: list[str],
+    free: bool,
+) -> DynamicsResult:
+    """Reactions, actuator loads and the excluded-equation check on the frames of ``lm``."""
+    m = model.mechanism
+    if joints is not None:
+        for jid in joints:
+            if jid not in lm.joints:
+                raise MechanismError(f"joints: {jid!r} is not a joint id")
+    mass = np.array([data.inertia[x].mass for x in lm.links])
+    J = np.array([data.inertia[x].J for x in lm.links])
+    fa, ma = active_forces(data, lm, params, lm.q[:, 0], result.qdot[:, 0])
+    fi, mi = inertia_loads(lm, mass, J)
+    force, moment = fa + fi, ma + mi
+    cols = unknowns(model)
+    A = system_matrix(model, lm, cols)
+    S = stack_loads(force, moment)
+    ok = lm.valid.copy()
+    S = np.where(ok[:, None], S, np.nan)
+    x, solved = solve_stack(A, S)
+    if (ok & ~solved).any():
+        bad = float(lm.q[np.argmax(ok & ~solved), 0])
+        warnings.append(f"the joint loads are not determined at {int((ok & ~solved).sum())} frame(s) (a singular position; first q = {bad:.9g}); their values are null")
+    if (~ok).any():
+        warnings.append(f"the mechanism does not assemble at {int((~ok).sum())} frame(s) (first q = {float(lm.q[np.argmax(~ok), 0]):.9g}); their values are null")
+    solved &= ok
+    with np.errstate(all="ignore"):
+        cond = np.where(solved, np.linalg.cond(np.where(solved[:, None, None], A, np.eye(A.shape[1]))), np.nan)
+    worst = np.nanargmax(cond) if np.isfinite(cond).any() else None
+    if worst is not None and cond[worst] > ILL_CONDITIONED:
+        warnings.append(
+            f"near-singular position: the link equations' condition number reaches {cond[worst]:.3g} "
+            f"at q = {float(lm.q[worst, 0]):.9g}; reactions there carry about {np.log10(cond[worst]):.0f} digits less"
+        )
+    ell = model.scale
+    drive_cols = [c for c, u in enumerate(cols) if u.kind == "drive"]
+    tau_sys = x[:, drive_cols].T  # drivers × frames
+    tau_eom = np.zeros_like(tau_sys) if free else generalised_drive(lm, force, moment)
+    # the largest load of each frame, moments counted as forces at the mechanism's size
+    forces = [np.abs(fa), np.abs(fi)]
+    moments = [np.abs(ma), np.abs(mi)]
+    for c, u in enumerate(cols):
+        if u.kind in ("x", "y", "n") or (u.kind == "drive" and m.joint(u.joint).kind == "P"):
+            forces.append(np.abs(x[:, c])[None])
+        else:
+            moments.append(np.abs(x[:, c])[None])
+    with np.errstate(all="ignore"):
+        big = np.maximum(np.nanmax(np.concatenate(forces), axis=0), np.nanmax(np.concatenate(moments), axis=0) / ell)
+        unit = np.array([ell if m.joint(d).kind == "R" else 1.0 for d in model.drivers])
+        rel = np.abs(tau_sys - tau_eom) / (big[None] * unit[:, None])
+        rel = np.where(big[None] > 0, rel, np.abs(tau_sys - tau_eom))
+    residual = np.where(solved, np.nanmax(rel, axis=0), np.nan)
+    check = float(np.nanmax(residual)) if np.isfinite(residual).any() else None
+
+    reactions: dict[str, dict[str, dict[str, FloatArray]]] | None = None
+    if "reactions" in wanted:
+        reactions = {}
+        index = {(u.joint, u.link, u.kind): c for c, u in enumerate(cols)}
+        for j in m.joints:
+            if joints is not None and j.id not in joints:
+                continue
+            per: dict[str, dict[str, FloatArray]] = {}
+            if j.kind == "R":
+                sx = np.zeros(lm.q.shape[0])
+                sy = np.zeros(lm.q.shape[0])
+                for link in j.links[1:]:
+                    rx, ry = x[:, index[(j.id, link, "x")]], x[:, index[(j.id, link, "y")]]
+                    per[link] = {"x": rx, "y": ry}
+                    sx, sy = sx + rx, sy + ry
+                per = {j.links[0]: {"x": -sx, "y": -sy}, **per}
+            else:
+                nvec = 1j * lm.axis[j.id] * x[:, index[(j.id, j.links[1], "n")]]
+                mm = x[:, index[(j.id, j.links[1], "m")]]
+                per[j.links[0]] = {"x": -nvec.real, "y": -nvec.imag, "m": -mm}
+                per[j.links[1]] = {"x": nvec.real, "y": nvec.imag, "m": mm}
+            reactions[j.id] = per
+    driving: dict[str, FloatArray] | None = None
+    if "driving" in wanted:
+        shown = np.zeros_like(tau_sys) if free else np.where(solved[None], tau_sys, np.nan)
+        driving = {d: shown[i] for i, d in enumerate(model.drivers)}
+    return _replace(
+        result,
+        driving=driving,
+        reactions=reactions,
+        residual=residual if "check" in wanted else None,
+        check=check if "check" in wanted else None,
+        condition=cond,
+    )

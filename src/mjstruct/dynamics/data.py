@@ -1,0 +1,309 @@
+"""Dynamics data of a mechanism file: inertia, gravity, parameters, loads, read and checked.
+
+Owns the file keys ``inertia``, ``gravity``, ``parameters``, ``loads`` and
+``energy_change`` (kept by the reader in :attr:`Mechanism.extra`): their validation
+(every error names its field) and the loads compiled to numpy functions of the
+driver coordinate ``q``, the speed ``qdot`` and the parameters.
+
+Examples
+--------
+>>> from mjstruct.io import mechanism_from_dict
+>>> m = mechanism_from_dict({"frame": 0, "drivers": ["O1"], "joints": [
+...     {"id": "O1", "links": [0, 1], "at": [0, 0]},
+...     {"id": "A", "links": [1, 2], "at": [1, 0]},
+...     {"id": "B", "links": [2, 3], "at": [3, 0]},
+...     {"id": "P", "links": [0, 3], "type": "P", "at": [3, 0], "axis": [1, 0]}],
+...     "inertia": {"1": {"mass": 1.0}, "3": {"mass": 0.5}},
+...     "parameters": {"M": 10, "p": None},
+...     "loads": [{"link": "1", "moment": "-M"}]})
+>>> d = read_dynamics(m)
+>>> d.unknown, d.inertia["1"].com, d.inertia["2"].mass
+('p', (0.5+0j), 0.0)
+>>> float(d.loads[0].evaluate(0.0, 0.0, d.parameter_values(p=0.0))[2])
+-10.0
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.dynamics.expressions import parse_expression, reserved_names
+from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Mechanism
+
+if TYPE_CHECKING:
+    import sympy
+
+FloatArray = npt.NDArray[np.float64]
+
+#: the file keys this module reads
+KEYS = ("inertia", "gravity", "parameters", "loads", "energy_change")
+
+
+@dataclass(frozen=True)
+class LinkInertia:
+    """Mass, central moment of inertia and reference centre of mass of a moving link."""
+
+    mass: float
+    J: float
+    com: complex
+
+
+@dataclass(frozen=True)
+class Load:
+    """An active load on a link: a force ``[Fx, Fy]`` at a point, or a couple.
+
+    Attributes
+    ----------
+    link : the loaded (moving) link.
+    kind : ``"force"`` or ``"moment"``.
+    at : the point of application in the reference configuration (forces).
+    exprs : the sympy expression of each component (two for a force, one for a couple).
+    where : the field that defined it (``"loads[3]"``), for messages.
+    """
+
+    link: str
+    kind: str
+    at: complex
+    exprs: tuple[Any, ...]
+    where: str
+    functions: tuple[Callable[..., Any], ...]
+    arguments: tuple[str, ...]
+
+    def evaluate(
+        self, q: npt.ArrayLike, qdot: npt.ArrayLike, parameters: Mapping[str, float]
+    ) -> FloatArray:
+        """Components ``(Fx, Fy, M)`` over the frames (a force has M = 0, a couple F = 0)."""
+        qa = np.asarray(q, float)
+        qd = np.broadcast_to(np.asarray(qdot, float), qa.shape)
+        args = [parameters[a] for a in self.arguments]
+        vals = []
+        with np.errstate(all="ignore"):
+            for f in self.functions:
+                v = np.broadcast_to(np.asarray(f(qa, qd, *args), float), qa.shape)
+                vals.append(v)
+        zero = np.zeros(qa.shape)
+        out = np.stack([vals[0], vals[1], zero] if self.kind == "force" else [zero, zero, vals[0]])
+        if not np.isfinite(out).all():
+            bad = np.argmax(~np.isfinite(out).all(axis=0)) if qa.ndim else 0
+            qb = float(qa.reshape(-1)[bad]) if qa.size else float("nan")
+            raise MechanismError(f"{self.where}: the load is not finite at q = {qb:.9g}")
+        return out
+
+    @property
+    def uses_qdot(self) -> bool:
+        """Whether the load depends on the speed ``qdot``."""
+        return any("qdot" in {s.name for s in e.free_symbols} for e in self.exprs)
+
+
+@dataclass(frozen=True)
+class DynamicsData:
+    """The dynamics keys of a mechanism file, checked.
+
+    Attributes
+    ----------
+    inertia : every moving link -> its :class:`LinkInertia` (massless when not listed).
+    gravity : the acceleration of gravity as ``gx + i gy``.
+    parameters : name -> value (``None`` for the unknown).
+    unknown : the parameter that steady motion fixes, or ``None``.
+    loads : the active loads.
+    energy_change : the cycle work of all loads that steady motion must give.
+    """
+
+    inertia: dict[str, LinkInertia]
+    gravity: complex
+    parameters: dict[str, float | None]
+    unknown: str | None
+    loads: tuple[Load, ...]
+    energy_change: float
+
+    def parameter_values(self, **given: float) -> dict[str, float]:
+        """All parameters as numbers, the unknown taken from ``given``."""
+        out = {k: v for k, v in self.parameters.items() if v is not None}
+        out.update(given)
+        missing = [k for k in self.parameters if k not in out]
+        if missing:
+            raise MechanismError(f"parameters: {missing[0]!r} has no value")
+        return out
+
+    @property
+    def uses_qdot(self) -> bool:
+        """Whether some load depends on the speed."""
+        return any(load.uses_qdot for load in self.loads)
+
+    def is_linear_in_unknown(self) -> bool:
+        """Whether every load is affine in the unknown parameter."""
+        if self.unknown is None:
+            return True
+        import sympy
+
+        p = sympy.Symbol(self.unknown, real=True)
+        return all(sympy.diff(e, p).free_symbols.isdisjoint({p}) for ld in self.loads for e in ld.exprs)
+
+
+def _number(value: Any, where: str, minimum: float | None = None) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise MechanismError(f"{where}: must be a number")
+    x = float(value)
+    if not math.isfinite(x):
+        raise MechanismError(f"{where}: must be finite")
+    if minimum is not None and x < minimum:
+        raise MechanismError(f"{where}: must be >= {minimum:g}, got {x:g}")
+    return x
+
+
+def _xy(value: Any, where: str) -> complex:
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise MechanismError(f"{where}: must be a list [x, y]")
+    return complex(_number(value[0], f"{where}[0]"), _number(value[1], f"{where}[1]"))
+
+
+def _link(value: Any, m: Mechanism, where: str) -> str:
+    if isinstance(value, bool) or not isinstance(value, (str, int)):
+        raise MechanismError(f"{where}: must be a link id")
+    link = str(value)
+    if link not in m.links:
+        raise MechanismError(f"{where}: unknown link {link!r}")
+    if link == m.frame:
+        raise MechanismError(f"{where}: link {link!r} is the frame (it does not move)")
+    return link
+
+
+def centroid(m: Mechanism, link: str) -> complex:
+    """The centroid of a link's distinct joint centres (reference configuration)."""
+    pts: list[complex] = []
+    for jid in m.link_joints[link]:
+        at = m.joint(jid).at
+        if at is not None:
+            z = complex(*at)
+            if all(abs(z - p) > 1e-12 * (1 + abs(z)) for p in pts):
+                pts.append(z)
+    if not pts:
+        raise MechanismError(f"inertia.{link}.com: the link has no joint centres; give 'com'")
+    return sum(pts, 0j) / len(pts)
+
+
+def read_dynamics(m: Mechanism) -> DynamicsData:
+    """Read and check the dynamics keys of ``m`` (see the module docstring).
+
+    Raises
+    ------
+    MechanismError
+        naming the field: a negative mass or moment of inertia, a load on an unknown
+        link or on the frame, an unparsable expression, an unknown symbol, two
+        unknown parameters, a key of the wrong type.
+    """
+    if m.frame is None:
+        raise MechanismError("frame: dynamics needs a frame link")
+    for k, j in enumerate(m.joints):
+        if j.at is None:
+            raise MechanismError(
+                f"joints[{k}].at: missing for joint {j.id!r} (dynamics needs the geometry)"
+            )
+    extra = m.extra
+    moving = [link for link in m.links if link != m.frame]
+
+    raw_inertia = extra.get("inertia", {})
+    if not isinstance(raw_inertia, Mapping):
+        raise MechanismError("inertia: must be an object {link: {mass, J, com}}")
+    inertia: dict[str, LinkInertia] = {}
+    for key, spec in raw_inertia.items():
+        link = _link(key, m, f"inertia.{key}")
+        where = f"inertia.{link}"
+        if not isinstance(spec, Mapping):
+            raise MechanismError(f"{where}: must be an object with 'mass'")
+        unknown_keys = set(spec) - {"mass", "J", "com"}
+        if unknown_keys:
+            raise MechanismError(f"{where}.{sorted(unknown_keys)[0]}: unknown key")
+        if "mass" not in spec:
+            raise MechanismError(f"{where}.mass: missing")
+        mass = _number(spec["mass"], f"{where}.mass", 0.0)
+        J = _number(spec.get("J", 0.0), f"{where}.J", 0.0)
+        com = _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link)
+        inertia[link] = LinkInertia(mass, J, com)
+    for link in moving:
+        if link not in inertia:
+            inertia[link] = LinkInertia(0.0, 0.0, centroid(m, link))
+
+    raw_g = extra.get("gravity", [0.0, 0.0])
+    gravity = _xy(raw_g, "gravity")
+
+    raw_params = extra.get("parameters", {})
+    if not isinstance(raw_params, Mapping):
+        raise MechanismError("parameters: must be an object {name: number or null}")
+    parameters: dict[str, float | None] = {}
+    reserved = reserved_names()
+    for name, value in raw_params.items():
+        where = f"parameters.{name}"
+        if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
+            raise MechanismError(f"{where}: a parameter name must be an identifier")
+        if name in reserved:
+            raise MechanismError(f"{where}: {name!r} is reserved (a variable, constant or function)")
+        parameters[name] = None if value is None else _number(value, where)
+    unknowns = [k for k, v in parameters.items() if v is None]
+    if len(unknowns) > 1:
+        raise MechanismError(
+            f"parameters: two unknown parameters ({unknowns[0]!r}, {unknowns[1]!r}); "
+            "at most one may be null"
+        )
+
+    energy_change = _number(extra.get("energy_change", 0.0), "energy_change")
+
+    raw_loads = extra.get("loads", [])
+    if not isinstance(raw_loads, list):
+        raise MechanismError("loads: must be a list")
+    loads = tuple(_read_load(spec, k, m, inertia, list(parameters)) for k, spec in enumerate(raw_loads))
+    if unknowns and not any(
+        unknowns[0] in {s.name for e in ld.exprs for s in e.free_symbols} for ld in loads
+    ):
+        raise MechanismError(f"parameters.{unknowns[0]}: the unknown appears in no load")
+    return DynamicsData(
+        inertia=inertia,
+        gravity=gravity,
+        parameters=parameters,
+        unknown=unknowns[0] if unknowns else None,
+        loads=loads,
+        energy_change=energy_change,
+    )
+
+
+def _read_load(
+    spec: Any, k: int, m: Mechanism, inertia: Mapping[str, LinkInertia], params: list[str]
+) -> Load:
+    import sympy
+
+    where = f"loads[{k}]"
+    if not isinstance(spec, Mapping):
+        raise MechanismError(f"{where}: must be an object with 'link' and 'force' or 'moment'")
+    unknown_keys = set(spec) - {"link", "force", "moment", "at"}
+    if unknown_keys:
+        raise MechanismError(f"{where}.{sorted(unknown_keys)[0]}: unknown key")
+    if "link" not in spec:
+        raise MechanismError(f"{where}.link: missing")
+    link = _link(spec["link"], m, f"{where}.link")
+    if ("force" in spec) == ("moment" in spec):
+        raise MechanismError(f"{where}: give exactly one of 'force' and 'moment'")
+    exprs: list[sympy.Expr]
+    if "force" in spec:
+        raw = spec["force"]
+        if not isinstance(raw, (list, tuple)) or len(raw) != 2:
+            raise MechanismError(f"{where}.force: must be a list [Fx, Fy]")
+        exprs = [parse_expression(raw[i], params, f"{where}.force[{i}]") for i in range(2)]
+        at = _xy(spec["at"], f"{where}.at") if "at" in spec else inertia[link].com
+        kind = "force"
+    else:
+        if "at" in spec:
+            raise MechanismError(f"{where}.at: a couple has no point of application")
+        exprs = [parse_expression(spec["moment"], params, f"{where}.moment")]
+        at = inertia[link].com
+        kind = "moment"
+    used = sorted({s.name for e in exprs for s in e.free_symbols} - {"q", "qdot"})
+    symbols = [sympy.Symbol(n, real=True) for n in ("q", "qdot", *used)]
+    functions = tuple(sympy.lambdify(symbols, e, modules="numpy") for e in exprs)
+    return Load(link, kind, at, tuple(exprs), where, functions, tuple(used))

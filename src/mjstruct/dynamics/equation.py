@@ -1,0 +1,528 @@
+"""The equation of motion of a one-DOF mechanism and the integrals of the loads' work.
+
+Owns ``V(q) = Σ I σ²`` (reduced inertia), ``W(q) = Σ I σ κ``, the generalised force
+``Q(q, q̇) = Σ F σ`` (``V q̈ + W q̇² = Q``), the work integral ``A(q) = ∫ Q dq`` by
+four methods, the unknown parameter of steady motion (cycle work = a given change of
+kinetic energy) and the speed and acceleration along the motion,
+``q̇² = (2A + V(q₀) q̇₀²)/V`` and ``q̈ = (Q − W q̇²)/V``.  A speed-dependent load
+turns the energy integral into an ODE in q, solved with scipy.
+
+The module works along a *path* ``q(u) = q_ref + s·u`` (every driver moves by u in the
+direction s = ±1), so the same functions give the cycle work of several drivers moved
+together.  :class:`PathForce` is what a time integrator needs: ``V``, ``W``, ``Q`` at
+any q.
+
+Integration methods (``method``):
+
+``gauss``
+    Gauss–Legendre on every piece between the output frames and the jumps of the load
+    expressions (``Piecewise``, ``Heaviside``, ``sign``, ``Abs`` in q), with 2n nodes,
+    the n-node value giving the error estimate: exact for piecewise loads up to the
+    smoothness of the kinematics.
+``trapezoid``
+    the trapezoid rule on 2ⁿ equal steps of the cycle, interpolated linearly to the frames.
+``fft``
+    the 2ⁿ samples fitted by a Fourier series of ``harmonics`` terms and integrated
+    analytically (the seed's route for periodic Q).
+``adaptive``
+    ``scipy.integrate.quad_vec`` between frames and jumps.
+
+Examples
+--------
+>>> import numpy as np
+>>> f = lambda u: np.stack([np.cos(u) ** 2])
+>>> w = work_integral(f, 2 * np.pi, np.array([0.0, np.pi]), "gauss")
+>>> round(float(w.cycle[0]), 12), round(float(w.A[0, 1]), 12)
+(3.14159265359, 1.570796326795)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.dynamics.data import DynamicsData
+from mjstruct.dynamics.expressions import switch_functions
+from mjstruct.errors import MechanismError, NumericalError
+from mjstruct.kinematics.model import KinematicModel, Motion
+
+FloatArray = npt.NDArray[np.float64]
+
+METHODS = ("gauss", "trapezoid", "fft", "adaptive")
+
+#: Gauss–Legendre nodes per piece (the estimate uses half as many)
+GAUSS_NODES = 12
+
+
+def coefficients(mo: Motion, data: DynamicsData, links: Sequence[str]) -> tuple[FloatArray, FloatArray]:
+    """``V = Σ m|σ_c|² + J σ_θ²`` and ``W = Σ m σ_c·κ_c + J σ_θ κ_θ`` over the frames.
+
+    ``mo`` must carry second derivatives along the path (order 2).
+    """
+    F = mo.q.shape[0]
+    V, W = np.zeros(F), np.zeros(F)
+    for link in links:
+        li = data.inertia[link]
+        if li.mass:
+            c = mo.point(link, li.com)
+            V += li.mass * (c[1].real ** 2 + c[1].imag ** 2)
+            W += li.mass * (c[1].real * c[2].real + c[1].imag * c[2].imag)
+        if li.J:
+            t = mo.angle(link)
+            V += li.J * t[1] ** 2
+            W += li.J * t[1] * t[2]
+    return V, W
+
+
+def generalised_force(
+    mo: Motion,
+    data: DynamicsData,
+    links: Sequence[str],
+    qload: FloatArray,
+    qdot: npt.ArrayLike,
+    variants: Sequence[Mapping[str, float]],
+) -> FloatArray:
+    """``Q = Σ F·σ + M σ_θ`` (gravity included) for each parameter set: variants × frames.
+
+    ``mo`` carries first derivatives along the path; ``qload`` and ``qdot`` are what the
+    load expressions see.
+    """
+    F = mo.q.shape[0]
+    base = np.zeros(F)
+    g = data.gravity
+    if g:
+        for link in links:
+            li = data.inertia[link]
+            if li.mass:
+                v = mo.point(link, li.com)[1]
+                base += li.mass * (g.real * v.real + g.imag * v.imag)
+    sig = []
+    for load in data.loads:
+        if load.kind == "force":
+            v = mo.point(load.link, load.at)[1]
+            sig.append((v.real, v.imag, np.zeros(F)))
+        else:
+            sig.append((np.zeros(F), np.zeros(F), mo.angle(load.link)[1]))
+    out = np.empty((len(variants), F))
+    for k, params in enumerate(variants):
+        Q = base.copy()
+        for load, (sx, sy, st) in zip(data.loads, sig, strict=True):
+            c = load.evaluate(qload, qdot, params)
+            Q += c[0] * sx + c[1] * sy + c[2] * st
+        out[k] = Q
+    return out
+
+
+@dataclass(frozen=True)
+class PathForce:
+    """``V``, ``W`` and ``Q`` at any point of the path ``q(u) = q_ref + s·u``.
+
+    Attributes
+    ----------
+    model : the kinematic model.
+    data : the dynamics data.
+    direction : s = ±1.
+    """
+
+    model: KinematicModel
+    data: DynamicsData
+    direction: float
+
+    @property
+    def links(self) -> tuple[str, ...]:
+        return tuple(x for x in self.model.mechanism.links if x != self.model.frame)
+
+    def q(self, u: npt.ArrayLike) -> FloatArray:
+        """Driver values (frames × drivers) at path parameters ``u``."""
+        ua = np.atleast_1d(np.asarray(u, float))
+        return self.model.q_ref[None, :] + self.direction * ua[:, None]
+
+    def motion(self, u: npt.ArrayLike, order: int) -> Motion:
+        D = len(self.model.drivers)
+        mo = self.model.motion(self.q(u), order=order, rates=self.direction * np.ones(D))
+        if not mo.valid.all():
+            bad = float(self.q(u)[np.argmax(~mo.valid), 0])
+            raise NumericalError(f"the mechanism does not assemble at q = {bad:.9g}")
+        return mo
+
+    def force(
+        self, u: npt.ArrayLike, qdot: npt.ArrayLike, variants: Sequence[Mapping[str, float]]
+    ) -> FloatArray:
+        """Path generalised force ``Σ F · ds/du`` (variants × points)."""
+        mo = self.motion(u, 1)
+        return generalised_force(mo, self.data, self.links, mo.q[:, 0], qdot, variants)
+
+    def coefficients(self, u: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """``V`` and ``W`` along the path (the reduced inertia of the path coordinate)."""
+        return coefficients(self.motion(u, 2), self.data, self.links)
+
+    def switches(self, period: float) -> FloatArray:
+        """Path parameters in (0, period) where a load expression jumps."""
+        import sympy
+
+        qs = sympy.Symbol("q", real=True)
+        grid = np.linspace(0.0, period, 4097)
+        qgrid = self.q(grid)[:, 0]
+        out: list[float] = []
+        for load in self.data.loads:
+            for e in load.exprs:
+                for g in switch_functions(e):
+                    fn = sympy.lambdify([qs], g, modules="numpy")
+                    vals = np.broadcast_to(np.asarray(fn(qgrid), float), grid.shape)
+                    out += _roots(fn, grid, vals, self.q)
+        return np.unique(np.array([x for x in out if 0.0 < x < period]))
+
+
+def _roots(
+    fn: Callable[..., object],
+    grid: FloatArray,
+    vals: FloatArray,
+    qmap: Callable[[npt.ArrayLike], FloatArray],
+) -> list[float]:
+    from scipy.optimize import brentq
+
+    out: list[float] = [float(x) for x in grid[vals == 0]]
+    flips = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) < 0)[0]
+    for i in flips:
+
+        def g(u: float) -> float:
+            return float(np.asarray(fn(qmap([u])[0, 0]), float))
+
+        out.append(float(brentq(g, grid[i], grid[i + 1], xtol=1e-15, rtol=4e-16)))
+    return out
+
+
+@dataclass(frozen=True)
+class Integral:
+    """The work integral ``A(u) = ∫_0^u f`` of each variant of the loads.
+
+    Attributes
+    ----------
+    A : A at the targets (variants × targets).
+    cycle : A over the whole cycle (variants).
+    error : estimate of the cycle value's error (variants): the difference to a coarser
+        run of the same method (half the nodes, or half the steps).
+    evaluations : points where f was evaluated.
+    slope : dA/du at the targets as the method represents it (the trapezoid's chord
+        slope, the Fourier fit), or None when it is f itself (gauss, adaptive).
+    """
+
+    A: FloatArray
+    cycle: FloatArray
+    error: FloatArray
+    evaluations: int
+    slope: FloatArray | None
+
+
+def work_integral(
+    f: Callable[[FloatArray], FloatArray],
+    period: float,
+    targets: FloatArray,
+    method: str = "gauss",
+    n: int = 10,
+    harmonics: int | None = None,
+    breaks: FloatArray | None = None,
+) -> Integral:
+    """``A(u) = ∫_0^u f`` at ``targets`` (sorted, in [0, period]) and over the cycle.
+
+    Parameters
+    ----------
+    f : integrand over an array of u, returning variants × points.
+    period : the cycle length.
+    targets : points where A is wanted.
+    method : one of :data:`METHODS`.
+    n : 2ⁿ equal steps (trapezoid, fft).
+    harmonics : Fourier terms kept (fft; default all 2ⁿ⁻¹).
+    breaks : jumps of f (gauss, adaptive).
+    """
+    brk = np.zeros(0) if breaks is None else np.asarray(breaks, float)
+    if method == "gauss":
+        edges = np.unique(np.concatenate([[0.0, period], targets, brk]))
+        a, b = edges[:-1], edges[1:]
+        x2, w2 = np.polynomial.legendre.leggauss(GAUSS_NODES)
+        x1, w1 = np.polynomial.legendre.leggauss(GAUSS_NODES // 2)
+        x = np.concatenate([x2, x1])
+        mid, half = (a + b) / 2, (b - a) / 2
+        pts = (mid[:, None] + half[:, None] * x[None]).ravel()
+        vals = f(pts).reshape(-1, len(a), len(x))
+        fine = (vals[:, :, : len(x2)] * w2).sum(axis=2) * half
+        coarse = (vals[:, :, len(x2) :] * w1).sum(axis=2) * half
+        cum = np.concatenate([np.zeros((vals.shape[0], 1)), np.cumsum(fine, axis=1)], axis=1)
+        idx = np.searchsorted(edges, targets)
+        err = np.abs(fine - coarse).sum(axis=1)
+        return Integral(cum[:, idx], cum[:, -1], err, int(pts.size), None)
+    if method in ("trapezoid", "fft"):
+        if not 1 <= n <= 24:
+            raise MechanismError(f"n: 2^n steps needs 1 <= n <= 24, got {n}")
+        N = 2**n
+        u = period * np.arange(N + 1) / N
+        vals = f(u[:-1])
+        vals = np.concatenate([vals, vals[:, :1]], axis=1)  # periodic: f(T) = f(0)
+        h = period / N
+        steps = (vals[:, 1:] + vals[:, :-1]) * h / 2
+        cum = np.concatenate([np.zeros((vals.shape[0], 1)), np.cumsum(steps, axis=1)], axis=1)
+        coarse = vals[:, :-1:2].sum(axis=1) * 2 * h if N >= 2 else np.full(vals.shape[0], np.inf)
+        err = np.abs(cum[:, -1] - coarse)
+        if method == "trapezoid":
+            A = np.stack([np.interp(targets, u, c) for c in cum])
+            chord = np.diff(cum, axis=1) / h
+            k = np.clip(np.searchsorted(u, targets, side="right") - 1, 0, N - 1)
+            return Integral(A, cum[:, -1], err, N, chord[:, k])
+        c = np.fft.rfft(vals[:, :-1], axis=1) / N
+        H = N // 2 if harmonics is None else max(0, min(int(harmonics), N // 2))
+        k = np.arange(1, H + 1)
+        ck = c[:, 1 : H + 1].copy()
+        if H == N // 2 and H > 0:
+            ck[:, -1] /= 2  # the Nyquist term is counted once
+        om = 2 * np.pi / period
+        wave = np.exp(1j * om * np.outer(k, targets))
+        A = c[:, :1].real * targets[None] + 2 * np.real((ck / (1j * k * om)) @ (wave - 1.0))
+        slope = c[:, :1].real + 2 * np.real(ck @ wave)
+        return Integral(A, c[:, 0].real * period, err, N, slope)
+    if method == "adaptive":
+        from scipy.integrate import quad_vec
+
+        edges = np.unique(np.concatenate([[0.0, period], targets]))
+        count = [0]
+
+        def fs(u: float) -> FloatArray:
+            count[0] += 1
+            return f(np.array([u]))[:, 0]
+
+        parts, errs = [], []
+        for a0, b0 in zip(edges[:-1], edges[1:], strict=True):
+            inner = [float(x) for x in brk if a0 < x < b0]
+            val, e = quad_vec(fs, a0, b0, epsabs=1e-13, epsrel=1e-12, points=inner or None)
+            parts.append(val)
+            errs.append(e)
+        fine = np.stack(parts, axis=1)
+        cum = np.concatenate([np.zeros((fine.shape[0], 1)), np.cumsum(fine, axis=1)], axis=1)
+        idx = np.searchsorted(edges, targets)
+        err_all = np.full(fine.shape[0], float(sum(errs)))
+        return Integral(cum[:, idx], cum[:, -1], err_all, count[0], None)
+    raise MechanismError(
+        f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})"
+    )
+
+
+@dataclass(frozen=True)
+class FreeMotion:
+    """One-DOF motion under the loads, along the frames.
+
+    Attributes
+    ----------
+    parameters : all parameters, the unknown filled in.
+    A : work of the loads from the first frame (frames kept).
+    qdot, qddot : speed and acceleration (frames kept).
+    kept : how many frames are kept (the motion may stop earlier).
+    stop : the q where q̇² turns negative, or None.
+    cycle_work : work of the loads over the cycle (with the solved parameter).
+    error : an estimate of the integration error of the cycle work.
+    evaluations : points where the loads were evaluated.
+    method : the integration method used (``ode`` for speed-dependent loads).
+    """
+
+    parameters: dict[str, float]
+    A: FloatArray
+    qdot: FloatArray
+    qddot: FloatArray
+    kept: int
+    stop: float | None
+    cycle_work: float
+    error: float
+    evaluations: int
+    method: str
+
+
+def steady_parameter(
+    path: PathForce,
+    qdot: float,
+    method: str = "gauss",
+    n: int = 10,
+    harmonics: int | None = None,
+) -> tuple[dict[str, float], float, float]:
+    """The parameters with the unknown solved for cycle work = ``energy_change``.
+
+    The loads see the constant speed ``qdot``.  Returns the parameters, the cycle work
+    and its error estimate.
+    """
+    data = path.data
+    T = 2 * np.pi
+    brk = path.switches(T) if method in ("gauss", "adaptive") else None
+
+    def cycle(variants: Sequence[Mapping[str, float]]) -> tuple[FloatArray, FloatArray]:
+        w = work_integral(
+            lambda u: path.force(u, qdot, variants), T, np.zeros(0), method, n, harmonics, brk
+        )
+        return w.cycle, w.error
+
+    if data.unknown is None:
+        params = data.parameter_values()
+        c, e = cycle([params])
+        return params, float(c[0]), float(e[0])
+    p = data.unknown
+    if data.is_linear_in_unknown():
+        c, e = cycle([data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})])
+        slope = c[1] - c[0]
+        if not abs(slope) > 1e-14 * (abs(c[0]) + abs(c[1]) + 1e-300):
+            raise MechanismError(f"parameters.{p}: the cycle work does not depend on {p}")
+        value = float((data.energy_change - c[0]) / slope)
+        params = data.parameter_values(**{p: value})
+        return params, data.energy_change, float(max(e[0], e[1]) * (1 + abs(value)))
+    from scipy.optimize import root_scalar
+
+    def residual(x: float) -> float:
+        return float(cycle([data.parameter_values(**{p: x})])[0][0] - data.energy_change)
+
+    sol = root_scalar(residual, x0=0.0, x1=1.0, method="secant", xtol=1e-14, rtol=1e-13)
+    if not sol.converged or not np.isfinite(sol.root):
+        raise NumericalError(f"parameters.{p}: no value makes the cycle work {data.energy_change:g}")
+    params = data.parameter_values(**{p: float(sol.root)})
+    c, e = cycle([params])
+    return params, float(c[0]), float(e[0])
+
+
+def free_motion(
+    path: PathForce,
+    u: FloatArray,
+    V: FloatArray,
+    W: FloatArray,
+    qdot0: float,
+    method: str = "gauss",
+    n: int = 10,
+    harmonics: int | None = None,
+) -> FreeMotion:
+    """Speed and acceleration along the frames ``u`` (path parameters, u[0] = 0).
+
+    ``V``, ``W`` are the inertia coefficients at the frames; ``qdot0`` the speed at
+    the first frame (its sign is the path's direction).
+    """
+    if path.data.uses_qdot:
+        return _free_motion_ode(path, u, V, W, qdot0)
+    s = path.direction
+    T = 2 * np.pi
+    data = path.data
+    brk = path.switches(T) if method in ("gauss", "adaptive") else None
+    if data.unknown is not None and data.is_linear_in_unknown():
+        # one pass with the unknown at 0 and 1: everything is affine in it
+        p = data.unknown
+        variants = [data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})]
+        w = work_integral(lambda x: path.force(x, 0.0, variants), T, u, method, n, harmonics, brk)
+        slope_c = w.cycle[1] - w.cycle[0]
+        if not abs(slope_c) > 1e-14 * (abs(w.cycle[0]) + abs(w.cycle[1]) + 1e-300):
+            raise MechanismError(f"parameters.{p}: the cycle work does not depend on {p}")
+        value = float((data.energy_change - w.cycle[0]) / slope_c)
+        params = data.parameter_values(**{p: value})
+        mix = np.array([1.0 - value, value])
+        A = mix @ w.A
+        cycle = float(data.energy_change)
+        err = float(np.max(w.error) * (1 + abs(value)))
+        w_slope = None if w.slope is None else (mix @ w.slope)[None]
+    else:
+        if data.unknown is not None:
+            params, _, _ = steady_parameter(path, 0.0, method, n, harmonics)
+        else:
+            params = data.parameter_values()
+        w = work_integral(lambda x: path.force(x, 0.0, [params]), T, u, method, n, harmonics, brk)
+        A, cycle, err, w_slope = w.A[0], float(w.cycle[0]), float(w.error[0]), w.slope
+    E2 = 2 * A + V[0] * qdot0**2  # twice the kinetic energy
+    bad = np.nonzero(E2 < 0)[0]
+    kept = int(bad[0]) if bad.size else len(u)
+    stop = None
+    if bad.size:
+        stop = _stop_point(path, params, u[kept - 1], u[kept], V[0] * qdot0**2, A[kept - 1])
+    qd = s * np.sqrt(np.maximum(E2[:kept], 0.0) / V[:kept])
+    # q̈ = (dA/dq − W q̇²)/V with dA/dq as the method represents it: the excluded
+    # equation then measures how far that representation is from the true force
+    slope = path.force(u[:kept], qd, [params])[0] if w_slope is None else w_slope[0, :kept]
+    qdd = (s * slope - W[:kept] * qd**2) / V[:kept]
+    count = w.evaluations
+    return FreeMotion(params, A[:kept], qd, qdd, kept, stop, cycle, err, count, method)
+
+
+def _stop_point(
+    path: PathForce, params: Mapping[str, float], a: float, b: float, e0: float, A_a: float
+) -> float:
+    """The path point in [a, b] where 2A + V₀q̇₀² reaches zero (q̇² turns negative)."""
+    from scipy.optimize import brentq
+
+    def energy(x: float) -> float:
+        if x <= a:
+            return float(2 * A_a + e0)
+        w = work_integral(
+            lambda v: path.force(a + v, 0.0, [params]), x - a, np.array([x - a]), "gauss"
+        )
+        return float(2 * (A_a + w.A[0, 0]) + e0)
+
+    root = float(brentq(energy, a, b, xtol=1e-13)) if energy(a) > 0 else a
+    return float(path.q([root])[0, 0])
+
+
+def _free_motion_ode(
+    path: PathForce, u: FloatArray, V: FloatArray, W: FloatArray, qdot0: float
+) -> FreeMotion:
+    """Speed-dependent loads: ``dE/du = Q(q, q̇)`` with ``E = V q̇²/2``, by scipy's DOP853."""
+    from scipy.integrate import solve_ivp
+
+    data = path.data
+    s = path.direction
+    T = 2 * np.pi
+    E0 = V[0] * qdot0**2 / 2
+    calls = [0]
+
+    def run(params: Mapping[str, float], t_eval: FloatArray | None) -> object:
+        def rhs(x: float, y: FloatArray) -> FloatArray:
+            calls[0] += 1
+            Vx = path.coefficients([x])[0][0]
+            qd = s * np.sqrt(max(2 * y[0], 0.0) / Vx)
+            return path.force([x], qd, [params])[0]
+
+        def stopped(x: float, y: FloatArray) -> float:
+            return float(y[0])
+
+        stopped.terminal = True  # type: ignore[attr-defined]
+        stopped.direction = -1  # type: ignore[attr-defined]
+        scale = abs(E0) + 1e-300
+        return solve_ivp(
+            rhs,
+            (0.0, T),
+            [E0],
+            method="DOP853",
+            t_eval=t_eval,
+            rtol=1e-10,
+            atol=1e-12 * scale,
+            events=stopped if E0 > 0 else None,
+        )
+
+    if data.unknown is not None:
+        from scipy.optimize import root_scalar
+
+        p = data.unknown
+
+        def residual(x: float) -> float:
+            sol = run(data.parameter_values(**{p: x}), None)
+            if sol.status != 0:  # type: ignore[attr-defined]
+                raise NumericalError(f"parameters.{p}: the motion stops before the cycle ends for {p} = {x:g}")
+            return float(sol.y[0, -1] - E0 - data.energy_change)  # type: ignore[attr-defined]
+
+        root = root_scalar(residual, x0=0.0, x1=1.0, method="secant", xtol=1e-12, rtol=1e-12)
+        if not root.converged:
+            raise NumericalError(f"parameters.{p}: no value gives the cycle work {data.energy_change:g}")
+        params = data.parameter_values(**{p: float(root.root)})
+    else:
+        params = data.parameter_values()
+    sol = run(params, u)
+    E = np.asarray(sol.y[0], float)  # type: ignore[attr-defined]
+    kept = len(E)
+    stop = None
+    if sol.status == 1 and len(sol.t_events[0]):  # type: ignore[attr-defined]
+        stop = float(path.q([sol.t_events[0][0]])[0, 0])  # type: ignore[attr-defined]
+    full = run(params, None)
+    cycle = float(full.y[0, -1] - E0) if full.status == 0 else float("nan")  # type: ignore[attr-defined]
+    qd = s * np.sqrt(np.maximum(2 * E, 0.0) / V[:kept])
+    Q = path.force(u[:kept], qd, [params])[0] * s
+    qdd = (Q - W[:kept] * qd**2) / V[:kept]
+    return FreeMotion(params, E - E0, qd, qdd, kept, stop, cycle, 1e-10 * (abs(E0) + abs(cycle)), calls[0], "ode")

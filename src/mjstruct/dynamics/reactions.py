@@ -1,0 +1,151 @@
+"""Joint reactions and actuator loads: the per-frame linear system, solved on a stack.
+
+Owns the force analysis.  For every moving link three equations (forces in x and y,
+moment about the centre of mass) balance the active loads, the inertia loads
+``−m a``, ``−J ε`` and the unknown joint loads; the unknowns are
+
+* per revolute joint of m links, the force (x, y) it applies to each link but the
+  carrier (its first listed link; the carrier takes minus their sum, so the loads of
+  a multiple joint on its links sum to zero);
+* per prismatic joint, the normal force and the moment about the joint's current
+  centre applied to its second listed link (the first takes the opposite);
+* per driver, the torque (revolute) or the force along the guide (prismatic) the
+  actuator applies to the joint's second listed link.
+
+All frames are solved at once (``np.linalg.solve`` on a frames × u × u stack).  The
+*excluded equation* is the equation of motion of each driver (virtual power with the
+analogs σ, independent of the link equations): its residual, relative to the largest
+load of the frame, is the final check.
+
+Examples
+--------
+>>> import numpy as np
+>>> A = np.stack([np.eye(3), 2 * np.eye(3)])
+>>> solve_stack(A, np.ones((2, 3)))[0][1].tolist()
+[-0.5, -0.5, -0.5]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.dynamics.matrices import LinkMotion
+from mjstruct.kinematics.model import KinematicModel
+
+FloatArray = npt.NDArray[np.float64]
+ComplexArray = npt.NDArray[np.complex128]
+BoolArray = npt.NDArray[np.bool_]
+
+#: frames whose system has a smallest-to-largest singular value ratio below this are null
+SINGULAR = 1e-15
+
+
+@dataclass(frozen=True)
+class Unknown:
+    """One unknown of the system: ``kind`` is ``x``/``y`` (pin force on ``link``),
+    ``n``/``m`` (slider normal force / moment on its second link) or ``drive``."""
+
+    joint: str
+    link: str
+    kind: str
+
+
+def unknowns(model: KinematicModel) -> list[Unknown]:
+    """The unknowns in column order: joints in file order, then the drivers."""
+    out: list[Unknown] = []
+    for j in model.mechanism.joints:
+        if j.kind == "R":
+            for link in j.links[1:]:
+                out += [Unknown(j.id, link, "x"), Unknown(j.id, link, "y")]
+        else:
+            out += [Unknown(j.id, j.links[1], "n"), Unknown(j.id, j.links[1], "m")]
+    out += [Unknown(d, model.mechanism.joint(d).links[1], "drive") for d in model.drivers]
+    return out
+
+
+def system_matrix(model: KinematicModel, lm: LinkMotion, cols: Sequence[Unknown]) -> FloatArray:
+    """The stacked matrix ``A`` (frames × 3 links × unknowns) of the link equations.
+
+    Row ``3j + i`` is equation i (Fx, Fy, moment about the centre of mass) of moving
+    link j; a unit value of each unknown applies a wrench at the joint's centre to its
+    link (sign +1) and to the joint's first listed link (sign −1).
+    """
+    m = model.mechanism
+    row = {link: j for j, link in enumerate(lm.links)}
+    jrow = {jid: k for k, jid in enumerate(lm.joints)}
+    F = lm.q.shape[0]
+    A = np.zeros((F, 3 * len(lm.links), len(cols)))
+    com = lm.com[0]
+    for c, u in enumerate(cols):
+        joint = m.joint(u.joint)
+        P = lm.centre[jrow[u.joint]]
+        if u.kind == "x":
+            f, mu = np.ones(F, complex), np.zeros(F)
+        elif u.kind == "y":
+            f, mu = np.full(F, 1j), np.zeros(F)
+        elif u.kind == "n":
+            f, mu = 1j * lm.axis[u.joint], np.zeros(F)
+        elif u.kind == "m":
+            f, mu = np.zeros(F, complex), np.ones(F)
+        elif joint.kind == "R":  # revolute drive: a couple
+            f, mu = np.zeros(F, complex), np.ones(F)
+        else:  # prismatic drive: a force along the guide
+            f, mu = lm.axis[u.joint].astype(complex), np.zeros(F)
+        for link, sign in ((u.link, 1.0), (joint.links[0], -1.0)):
+            if link not in row:  # the frame: no equations
+                continue
+            j = row[link]
+            arm = P - com[j]
+            A[:, 3 * j, c] += sign * f.real
+            A[:, 3 * j + 1, c] += sign * f.imag
+            A[:, 3 * j + 2, c] += sign * (mu + arm.real * f.imag - arm.imag * f.real)
+    return A
+
+
+def solve_stack(A: FloatArray, S: FloatArray) -> tuple[FloatArray, BoolArray]:
+    """Solve ``A x + S = 0`` on every frame; frames with a singular ``A`` are NaN.
+
+    Returns the solutions (frames × u) and a mask of the frames solved.
+    """
+    ok = np.isfinite(A).all(axis=(1, 2)) & np.isfinite(S).all(axis=1)
+    A_ok = np.where(ok[:, None, None], A, np.eye(A.shape[1])[None])
+    S_ok = np.where(ok[:, None], S, 0.0)
+    try:
+        x = np.linalg.solve(A_ok, -S_ok[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        sv = np.linalg.svd(A_ok, compute_uv=False)
+        ok &= sv[:, -1] > SINGULAR * sv[:, 0]
+        A_ok = np.where(ok[:, None, None], A_ok, np.eye(A.shape[1])[None])
+        x = np.linalg.solve(A_ok, -S_ok[..., None])[..., 0]
+    x[~ok] = np.nan
+    return x, ok
+
+
+def inertia_loads(lm: LinkMotion, mass: FloatArray, J: FloatArray) -> tuple[ComplexArray, FloatArray]:
+    """Inertia loads ``Φ = −I a`` at the centres of mass: force (complex) and moment."""
+    return -mass[:, None] * lm.com[2], -J[:, None] * lm.angle[2]
+
+
+def stack_loads(force: ComplexArray, moment: FloatArray) -> FloatArray:
+    """The load vector ``S`` per frame (frames × 3 links), rows Fx, Fy, M per link."""
+    L, F = moment.shape
+    S = np.empty((F, 3 * L))
+    S[:, 0::3] = force.real.T
+    S[:, 1::3] = force.imag.T
+    S[:, 2::3] = moment.T
+    return S
+
+
+def generalised_drive(lm: LinkMotion, force: ComplexArray, moment: FloatArray) -> FloatArray:
+    """The actuator loads from the equations of motion: ``τ_i = −Σ_j S_j · σ_ij``.
+
+    ``force``, ``moment`` are the total (active + inertia) loads at the centres of mass;
+    the result is drivers × frames.
+    """
+    work = (force[None].real * lm.sigma_com.real + force[None].imag * lm.sigma_com.imag).sum(axis=1)
+    work += (moment[None] * lm.sigma_angle).sum(axis=1)
+    return -work
