@@ -22,6 +22,8 @@ PUBLIC = [
     "lookup",
     "rigid_subchain",
     "seed_invariants",
+    "DynamicsResult",
+    "dynamic_analysis",
     "KinematicModel",
     "KinematicsResult",
     "Motion",
@@ -72,7 +74,7 @@ PUBLIC = [
     "to_networkx",
 ]
 
-CLI = ["analyze", "assur", "atlas", "cells", "convert", "iso", "kinematics", "lookup"]
+CLI = ["analyze", "assur", "atlas", "cells", "convert", "dynamics", "iso", "kinematics", "lookup"]
 
 
 def test_public_names_pinned():

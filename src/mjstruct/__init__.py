@@ -54,6 +54,8 @@ _EXPORTS: dict[str, str] = {
     "rigid_components": "mjstruct.structure.pebble",
     "rigidity": "mjstruct.structure.pebble",
     "plot_decomposition": "mjstruct.plot.assur",
+    "dynamic_analysis": "mjstruct.dynamics.analysis",
+    "DynamicsResult": "mjstruct.dynamics.analysis",
     "kinematic_analysis": "mjstruct.kinematics.solver",
     "KinematicsResult": "mjstruct.kinematics.solver",
     "KinematicModel": "mjstruct.kinematics.model",
@@ -77,6 +79,7 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal to _EXPORTS
+    from mjstruct.dynamics.analysis import DynamicsResult, dynamic_analysis
     from mjstruct.errors import MechanismError, NumericalError
     from mjstruct.io import (
         from_link_graph,

@@ -23,6 +23,7 @@ COMMANDS: dict[str, str] = {
     "lookup": "find a mechanism's chain in the shipped catalogs",
     "kinematics": "positions, velocities, accelerations over one cycle (triangle rule)",
     "assur": "Assur-group decomposition (MJs kept whole) and driver choices",
+    "dynamics": "equation of motion, steady motion, joint reactions and actuator loads",
     "convert": "between mechanism JSON/TOML, pyslvs expressions, GraphML and node-link JSON",
 }
 
