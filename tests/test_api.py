@@ -72,6 +72,12 @@ PUBLIC = [
     "structural_code",
     "structural_report",
     "to_networkx",
+    "mechanism_from_pyslvs",
+    "mechanism_to_pyslvs",
+    "mechanism_from_graphml",
+    "mechanism_to_graphml",
+    "mechanism_from_node_link",
+    "mechanism_to_node_link",
 ]
 
 CLI = ["analyze", "assur", "atlas", "cells", "convert", "dynamics", "iso", "kinematics", "lookup"]

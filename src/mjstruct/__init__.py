@@ -25,6 +25,12 @@ _EXPORTS: dict[str, str] = {
     "mechanism_to_toml": "mjstruct.io",
     "from_link_graph": "mjstruct.io",
     "to_networkx": "mjstruct.io",
+    "mechanism_from_pyslvs": "mjstruct.exchange.pyslvs",
+    "mechanism_to_pyslvs": "mjstruct.exchange.pyslvs",
+    "mechanism_from_graphml": "mjstruct.exchange.graph_formats",
+    "mechanism_to_graphml": "mjstruct.exchange.graph_formats",
+    "mechanism_from_node_link": "mjstruct.exchange.graph_formats",
+    "mechanism_to_node_link": "mjstruct.exchange.graph_formats",
     "Assortment": "mjstruct.structure.assortments",
     "assortment": "mjstruct.structure.assortments",
     "link_assortment": "mjstruct.structure.assortments",
@@ -81,6 +87,13 @@ __all__ = sorted(_EXPORTS)
 if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal to _EXPORTS
     from mjstruct.dynamics.analysis import DynamicsResult, dynamic_analysis
     from mjstruct.errors import MechanismError, NumericalError
+    from mjstruct.exchange.graph_formats import (
+        mechanism_from_graphml,
+        mechanism_from_node_link,
+        mechanism_to_graphml,
+        mechanism_to_node_link,
+    )
+    from mjstruct.exchange.pyslvs import mechanism_from_pyslvs, mechanism_to_pyslvs
     from mjstruct.io import (
         from_link_graph,
         mechanism_from_dict,
