@@ -304,9 +304,9 @@ def test_fast_admissibility_equals_brute_force_per_distribution() -> None:
     """The contracted-graph test against the brute-force rule on every expanded chain."""
     from mjstruct.errors import MechanismError
     from mjstruct.synthesis.atlas import (
-        _compositions,
-        _edge_minimum,
         admissible_distributions,
+        compositions,
+        edge_minimum,
         expand,
     )
     from mjstruct.synthesis.contracted import contracted_graphs, degree_sequences
@@ -315,10 +315,10 @@ def test_fast_admissibility_equals_brute_force_per_distribution() -> None:
     for K, frac in ((2, True), (3, False), (3, True), (4, False)):
         for seq in degree_sequences(K, mj=True):
             for cg in contracted_graphs(seq, frac)[:4]:
-                minima = [_edge_minimum(cg, u, v) for u, v in cg.edges]
+                minima = [edge_minimum(cg, u, v) for u, v in cg.edges]
                 n_branch = sum(c == "L" for c in cg.colours)
                 for extra in range(4):
-                    dist = _compositions(extra + (n_branch == 0), minima)
+                    dist = compositions(extra + (n_branch == 0), minima)
                     if not len(dist):
                         continue
                     mask = admissible_distributions(cg, dist)

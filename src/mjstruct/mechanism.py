@@ -117,7 +117,20 @@ class Mechanism:
         return {j.id: j for j in self.joints}
 
     def joint(self, joint_id: str) -> Joint:
+        """The joint with this id (``KeyError`` when there is none)."""
         return self._joint_index[joint_id]
+
+    def other_link(self, joint_id: str, link: str) -> str:
+        """The first link of the joint other than ``link`` (for a simple joint: the other).
+
+        >>> m = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 0])])
+        >>> m.other_link("A", "1"), m.other_link("A", "2")
+        ('2', '1')
+        """
+        links = self.joint(joint_id).links
+        if link not in links:
+            raise MechanismError(f"link: {link!r} is not on joint {joint_id!r}")
+        return next(x for x in links if x != link)
 
     @cached_property
     def link_joints(self) -> dict[str, tuple[str, ...]]:

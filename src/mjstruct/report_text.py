@@ -5,9 +5,8 @@ formulas where the seed gives two.
 
 from __future__ import annotations
 
-from fractions import Fraction
-
 from mjstruct.report import StructuralReport
+from mjstruct.structure.mobility import number_text as _n  # short: used in long formulas
 
 
 def _terms(coeffs: list[tuple[int, str, int]]) -> tuple[str, str]:
@@ -125,8 +124,3 @@ def render(r: StructuralReport) -> str:
             + ("over-driven / redundant constraints" if r.rc > 0 else "fewer drivers than DOF")
         )
     return "\n".join(out)
-
-
-def _n(x: Fraction | int | float) -> str:
-    f = Fraction(x)
-    return str(f.numerator) if f.denominator == 1 else f"{float(f):g}"

@@ -7,7 +7,7 @@ import argparse
 from collections import Counter
 from typing import Any
 
-from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 
@@ -89,23 +89,41 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+FLAGS = {"n": "--links", "workers": "--workers", "F": "--dof"}
+
+
 def _run_atlas(args: argparse.Namespace, bar: Any) -> Any:
     from mjstruct.synthesis.atlas import atlas
 
-    return atlas(
-        args.dof,
-        args.links,
-        mj=args.mj,
-        fractionated=args.fractionated,
-        workers=args.workers,
-        progress=bar,
-        scheduler=args.scheduler,
-    )
+    with flag_names(**FLAGS):
+        return atlas(
+            args.dof,
+            args.links,
+            mj=args.mj,
+            fractionated=args.fractionated,
+            workers=args.workers,
+            progress=bar,
+            scheduler=args.scheduler,
+        )
 
 
 def _run_assur(args: argparse.Namespace) -> int:
-    try:
-        from mjstruct.synthesis.assur_atlas import assur_atlas_command
-    except ImportError:
-        raise MechanismError("--assur: the Assur-group atlas is not available yet") from None
-    return int(assur_atlas_command(args))
+    """``mjstruct atlas --assur --links n``."""
+    from mjstruct.synthesis.assur_atlas import assur_atlas
+
+    with flag_names(**FLAGS):
+        groups = assur_atlas(args.links, workers=args.workers)
+    if args.json:
+        emit_json({"n": args.links, "count": len(groups), "groups": [g.to_dict() for g in groups]})
+        return 0
+    lines = [f"Assur groups with {args.links} links (simple joints): {len(groups)}"]
+    for (k, o), c in sorted(Counter((g.klass, g.order) for g in groups).items()):
+        lines.append(f"  class {k}, order {o}: {c}")
+    if args.list:
+        for g in groups:
+            lines.append(
+                f"class {g.klass} order {g.order}  internal {[list(j) for j in g.joints]}  "
+                f"external on {list(g.external)}"
+            )
+    emit_text("\n".join(lines))
+    return 0

@@ -6,6 +6,7 @@ import argparse
 
 from mjstruct.cli.output import emit_json, emit_text
 from mjstruct.errors import MechanismError
+from mjstruct.structure.mobility import link_count
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -45,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     for c in cs:
         d: dict = {"K": c.K, "V": c.V, "MJA": [list(m) for m in c.MJA]}
         if args.dof is not None:
-            d["n"] = args.dof + 1 + 2 * c.K
+            d["n"] = link_count(args.dof, c.K)
             d["LA"] = [list(la) for la in link_assortments(c.K, c.V, args.dof)]
         if args.count:
             d["codes"] = [

@@ -61,6 +61,27 @@ def dof_grubler(n: int, p: int, lam: int = 3) -> int:
     return lam * (n - 1) - (lam - 1) * p
 
 
+def link_count(F: int, K: int) -> int:
+    """n = F + 1 + 2K: the links of a chain with F DOF and K loops (planar, one-freedom).
+
+    >>> link_count(1, 2)  # Watt and Stephenson chains
+    6
+    """
+    return F + 1 + 2 * K
+
+
+def rigid_pair_count(links: int) -> int:
+    """The fewest simple-joint equivalents that make ``links`` links immobile by Grübler.
+
+    A sub-chain of ``links`` links holding at least this many simple joints has
+    Grübler mobility F <= 0 (its joints to the rest of the chain not counted).
+
+    >>> [rigid_pair_count(k) for k in (2, 3, 4, 5)], dof_grubler(3, 3), dof_grubler(4, 4)
+    ([2, 3, 5, 6], 0, 1)
+    """
+    return -(-3 * (links - 1) // 2)
+
+
 def redundant_constraints(N: int, F: Fraction | int) -> Fraction:
     """rc = N - F: drivers beyond the mobility (negative: under-driven)."""
     return N - Fraction(F)
@@ -93,15 +114,24 @@ def theorem_violations(a: Assortment, K: Fraction | int) -> list[str]:
         )
     av = avc(a, K)
     if av != 0:
-        out.append(f"AVC = {_fmt(av)} != 0: no closed chain with K = {_fmt(K)} has this code")
+        out.append(
+            f"AVC = {number_text(av)} != 0: "
+            f"no closed chain with K = {number_text(K)} has this code"
+        )
     if a.max_multiplicity > K:
         out.append(f"j <= K fails: a joint of multiplicity {a.max_multiplicity} needs K >= it")
     if a.V > 2 * (K - 1):
-        out.append(f"V <= 2(K - 1) fails: V = {a.V} > {_fmt(2 * (K - 1))}")
+        out.append(f"V <= 2(K - 1) fails: V = {a.V} > {number_text(2 * (K - 1))}")
     if K < 0:
-        out.append(f"K = {_fmt(K)} < 0")
+        out.append(f"K = {number_text(K)} < 0")
     return out
 
 
-def _fmt(x: Fraction) -> str:
-    return str(x.numerator) if x.denominator == 1 else f"{float(x):g}"
+def number_text(x: Fraction | int | float) -> str:
+    """A value for a report: an integer as is, a non-integral fraction as a decimal.
+
+    >>> number_text(Fraction(4, 1)), number_text(Fraction(7, 2)), number_text(3)
+    ('4', '3.5', '3')
+    """
+    f = Fraction(x)
+    return str(f.numerator) if f.denominator == 1 else f"{float(f):g}"

@@ -30,6 +30,7 @@ True
 from __future__ import annotations
 
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.mobility import dof_grubler, rigid_pair_count
 
 MAX_BRUTE_FORCE_LINKS = 22
 
@@ -37,7 +38,7 @@ MAX_BRUTE_FORCE_LINKS = 22
 def subchain_mobility(m: Mechanism, links: set[str] | frozenset[str]) -> int:
     """3(|S| - 1) - 2 Σ_j max(k_j(S) - 1, 0) for the link set S."""
     c = sum(max(sum(1 for x in j.links if x in links) - 1, 0) for j in m.joints)
-    return 3 * (len(links) - 1) - 2 * c
+    return dof_grubler(len(links), c)
 
 
 def rigid_subchain(m: Mechanism) -> tuple[str, ...] | None:
@@ -59,13 +60,14 @@ def rigid_subchain(m: Mechanism) -> tuple[str, ...] | None:
     # c[S] = Σ_j max(k_j(S) - 1, 0); adding link v to S' raises it by the joints of v
     # that already hold a link of S'.
     c = [0] * (1 << n)
+    rigid_at = [rigid_pair_count(k) if k else 0 for k in range(n + 1)]
     best: tuple[int, int] | None = None
     for s in range(1, 1 << n):
         v = (s & -s).bit_length() - 1
         rest = s & (s - 1)
         c[s] = c[rest] + sum(1 for mask in on_link[v] if mask & rest)
         size = s.bit_count()
-        if size >= 2 and 3 * (size - 1) - 2 * c[s] <= 0 and (best is None or size < best[0]):
+        if size >= 2 and c[s] >= rigid_at[size] and (best is None or size < best[0]):
             best = (size, s)
     if best is None:
         return None

@@ -25,7 +25,6 @@ Examples
 
 from __future__ import annotations
 
-import argparse
 from dataclasses import dataclass
 from typing import Any
 
@@ -33,6 +32,7 @@ import pynauty
 
 from mjstruct.errors import MechanismError
 from mjstruct.structure.isomorphism import nauty_graph
+from mjstruct.structure.mobility import rigid_pair_count
 from mjstruct.synthesis.contracted import Vertex, contracted_graphs, degree_sequences
 
 
@@ -66,22 +66,23 @@ def _proper_subsets_mobile(n: int, joints: list[list[int]]) -> bool:
         adj[b] |= 1 << a
     full = (1 << n) - 1
     edges = [0] * (1 << n)
+    rigid_at = [rigid_pair_count(k) if k else 0 for k in range(n + 1)]
     for s in range(1, full):
         v = (s & -s).bit_length() - 1
         rest = s & (s - 1)
         edges[s] = edges[rest] + (adj[v] & rest).bit_count()
         size = s.bit_count()
-        if size >= 2 and 3 * (size - 1) - 2 * edges[s] <= 0:
+        if size >= 2 and edges[s] >= rigid_at[size]:
             return False
     return True
 
 
 def _minimal_rigid_task(task: tuple[tuple[Vertex, ...], int]) -> list[list[list[int]]]:
     from mjstruct.synthesis.atlas import (
-        _compositions,
-        _edge_minimum,
         admissible_distributions,
         chain_code,
+        compositions,
+        edge_minimum,
         expand,
     )
 
@@ -89,8 +90,8 @@ def _minimal_rigid_task(task: tuple[tuple[Vertex, ...], int]) -> list[list[list[
     out = []
     n_branch = sum(1 for c, _ in sequence if c == "L")
     for cg in contracted_graphs(sequence, fractionated=False):
-        minima = [_edge_minimum(cg, u, v) for u, v in cg.edges]
-        dist = _compositions(n - n_branch, minima)
+        minima = [edge_minimum(cg, u, v) for u, v in cg.edges]
+        dist = compositions(n - n_branch, minima)
         if not len(dist):
             continue
         dist = dist[admissible_distributions(cg, dist, threshold=0)]
@@ -123,7 +124,7 @@ def assur_atlas(n: int, workers: int = 1) -> list[AssurGroupChain]:
     from mjstruct.structure.isomorphism import canonical_code
 
     if n < 1:
-        raise MechanismError(f"--links: need at least one link, got {n}")
+        raise MechanismError(f"n: need at least one link, got {n}")
     out = []
     for joints in minimal_rigid_chains(n + 1, workers):
         m = n + 1
@@ -147,26 +148,3 @@ def assur_atlas(n: int, workers: int = 1) -> list[AssurGroupChain]:
             )
     out.sort(key=lambda a: (a.klass, a.order, a.canonical))
     return out
-
-
-def assur_atlas_command(args: argparse.Namespace) -> int:
-    """``mjstruct atlas --assur --links n``."""
-    from collections import Counter
-
-    from mjstruct.cli.output import emit_json, emit_text
-
-    groups = assur_atlas(args.links, workers=args.workers)
-    if args.json:
-        emit_json({"n": args.links, "count": len(groups), "groups": [g.to_dict() for g in groups]})
-        return 0
-    lines = [f"Assur groups with {args.links} links (simple joints): {len(groups)}"]
-    for (k, o), c in sorted(Counter((g.klass, g.order) for g in groups).items()):
-        lines.append(f"  class {k}, order {o}: {c}")
-    if args.list:
-        for g in groups:
-            lines.append(
-                f"class {g.klass} order {g.order}  internal {[list(j) for j in g.joints]}  "
-                f"external on {list(g.external)}"
-            )
-    emit_text("\n".join(lines))
-    return 0

@@ -169,14 +169,16 @@ def _assortments(n: int, joints: Sequence[Sequence[int]]) -> tuple[tuple[int, ..
 # -- expansion of a contracted graph ------------------------------------------------
 
 
-def _edge_minimum(cg: ContractedGraph, u: int, v: int) -> int:
+def edge_minimum(cg: ContractedGraph, u: int, v: int) -> int:
+    """The fewest binary links edge uv of a contracted graph must carry (0 allowed
+    between a link and a joint; a loop needs links to avoid a link twice on one joint)."""
     cu, cv = cg.colours[u], cg.colours[v]
     if u == v:
         return 1 if cu == "L" else 2  # fewer: a link twice on one joint
     return 1 if cu == cv == "J" else 0
 
 
-def _compositions(total: int, minima: list[int]) -> np.ndarray:
+def compositions(total: int, minima: list[int]) -> np.ndarray:
     """All integer vectors b >= minima with Σ b = total, one per row."""
     e = len(minima)
     free = total - sum(minima)
@@ -301,8 +303,8 @@ def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]
     out: list[Chain] = []
     n_branch_links = sum(1 for c, _ in sequence if c == "L")
     for cg in contracted_graphs(sequence, fractionated):
-        minima = [_edge_minimum(cg, u, v) for u, v in cg.edges]
-        dist = _compositions(n - n_branch_links, minima)
+        minima = [edge_minimum(cg, u, v) for u, v in cg.edges]
+        dist = compositions(n - n_branch_links, minima)
         if not len(dist):
             continue
         dist = dist[admissible_distributions(cg, dist)]
@@ -367,9 +369,9 @@ def atlas(
         Address of a Dask scheduler to run the tasks on (optional extra).
     """
     if n < 1:
-        raise MechanismError(f"--links: need at least one link, got {n}")
+        raise MechanismError(f"n: need at least one link, got {n}")
     if workers < 1:
-        raise MechanismError(f"--workers: need at least 1, got {workers}")
+        raise MechanismError(f"workers: need at least 1, got {workers}")
     result = Atlas(F, n, mj, fractionated)
     if n - 1 - F == 2 and n >= 4:  # K = 1: the n-gon
         result.chains.append(_cycle(n, F))

@@ -23,6 +23,8 @@ from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+from mjstruct.structure.mobility import link_count
+
 
 @dataclass(frozen=True)
 class Cell:
@@ -65,7 +67,7 @@ def link_assortments(K: int, V: int, F: int) -> tuple[tuple[int, ...], ...]:
 
     Links with more than K + 1 joints are left out (such a link would be a cut vertex).
     """
-    n = F + 1 + 2 * K
+    n = link_count(F, K)
     excess = 2 * (K - 1) - V
     out = []
     for p in _partitions(excess, K - 1):
@@ -104,7 +106,7 @@ def code_counts(
     """
     out = []
     for K in range(2, kmax + 1):
-        n = F + 1 + 2 * K
+        n = link_count(F, K)
         tally: Counter = Counter()
         planar: Counter = Counter()
         for LA, MJA, V, is_planar, is_frac in _chains(F, n, workers):
