@@ -80,7 +80,20 @@ PUBLIC = [
     "mechanism_to_node_link",
 ]
 
-CLI = ["analyze", "assur", "atlas", "cells", "convert", "dynamics", "iso", "kinematics", "lookup"]
+CLI = [
+    "analyze",
+    "animate",
+    "assur",
+    "atlas",
+    "cells",
+    "convert",
+    "draw",
+    "dynamics",
+    "iso",
+    "kinematics",
+    "lookup",
+    "plot",
+]
 
 
 def test_public_names_pinned():

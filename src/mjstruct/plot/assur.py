@@ -55,6 +55,7 @@ def plot_decomposition(
 ) -> Any:
     """Draw the link–joint graph coloured by Assur group; returns the matplotlib axes."""
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 7))
@@ -86,8 +87,8 @@ def plot_decomposition(
         ax.annotate(x, (lx, ly), ha="center", va="center", color="white", fontsize=9, zorder=4)
     # legend: one entry per group, plus frame and initial mechanisms
     handles = [
-        plt.Line2D([], [], marker="o", ls="", ms=10, mfc="0.6", mec="black", label="frame"),
-        plt.Line2D(
+        Line2D([], [], marker="o", ls="", ms=10, mfc="0.6", mec="black", label="frame"),
+        Line2D(
             [],
             [],
             marker="o",
@@ -103,7 +104,7 @@ def plot_decomposition(
         text = f"{k + 1}: class {roman(g.klass)}, links {', '.join(g.links)}{where}"
         label[str(k)] = text
         handles.append(
-            plt.Line2D([], [], marker="o", ls="", ms=10, mfc=cmap(k % 10), mec="black", label=text)
+            Line2D([], [], marker="o", ls="", ms=10, mfc=cmap(k % 10), mec="black", label=text)
         )
     ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
     ax.set_aspect("equal")

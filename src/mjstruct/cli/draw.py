@@ -1,0 +1,117 @@
+"""``mjstruct draw FILE [--q Q] [--show LAYERS] -o OUT.svg|png|pdf``: the mechanism drawn
+at one configuration, with optional layers (Assur groups, velocity and acceleration
+vectors, paths).  Also the arguments and checks that ``animate`` and ``plot`` share.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING, Any
+
+from mjstruct.cli.output import driver_list
+from mjstruct.errors import MechanismError
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.model import KinematicModel
+
+
+def add_model_arguments(p: argparse.ArgumentParser) -> None:
+    """FILE, --drivers, --speed, --stroke: what every drawing command reads."""
+    p.add_argument("file", help="mechanism file with geometry (.json or .toml)")
+    p.add_argument("--drivers", help="generalised coordinates J1,J2 (default: the file's)")
+    p.add_argument("--speed", type=float, default=1.0, help="constant driver speed W (default 1)")
+    p.add_argument(
+        "--stroke", type=float, default=1.0, help="sweep of a prismatic driver (default 1)"
+    )
+
+
+def add_layer_arguments(p: argparse.ArgumentParser) -> None:
+    from mjstruct.plot.layers import LAYERS
+
+    names = ", ".join(LAYERS)
+    p.add_argument("--show", default="", help=f"layers, comma-separated: {names}")
+    p.add_argument(
+        "--paths",
+        help="joints or points whose paths the 'paths' layer draws "
+        "(default: the file's points, else the moving joints)",
+    )
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    add_model_arguments(p)
+    p.add_argument(
+        "--q", help="driver value(s) Q1,Q2 to draw at (default: the reference configuration)"
+    )
+    add_layer_arguments(p)
+    p.add_argument("-o", "--output", required=True, help="output file: .svg, .png or .pdf")
+    p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
+
+
+def read_model(args: argparse.Namespace) -> KinematicModel:
+    """The kinematic model of FILE with --drivers; checks --speed and --stroke."""
+    from mjstruct.io import read_mechanism
+    from mjstruct.kinematics.model import KinematicModel
+
+    if not args.speed == args.speed or args.speed in (0, float("inf"), float("-inf")):
+        raise MechanismError("--speed: must be a finite nonzero number")
+    if not 0 < args.stroke < float("inf"):
+        raise MechanismError(f"--stroke: must be a positive number, got {args.stroke}")
+    m = read_mechanism(args.file)
+    drivers = driver_list(args.drivers, m)
+    if not (drivers or m.drivers):
+        raise MechanismError("--drivers: the file names no drivers; give --drivers J1,J2")
+    return KinematicModel.build(m, drivers)
+
+
+def layer_options(args: argparse.Namespace, model: KinematicModel) -> tuple[Any, Any]:
+    """(layers, path ids) from --show and --paths, checked with the flags' names."""
+    from mjstruct.plot.layers import parse_layers
+
+    layers = parse_layers(args.show, name="--show")
+    paths = None
+    if args.paths is not None:
+        paths = [x.strip() for x in args.paths.split(",") if x.strip()]
+        geom = model.geometry
+        for pid in paths:
+            if pid not in geom.points and pid not in geom.centres:
+                raise MechanismError(f"--paths: {pid!r} is neither a joint nor a point")
+        if "paths" not in layers:
+            layers = (*layers, "paths")
+    return layers, paths
+
+
+def _driver_values(text: str, model: KinematicModel) -> list[float]:
+    try:
+        values = [float(x) for x in text.split(",")]
+    except ValueError:
+        raise MechanismError(f"--q: expected numbers Q1,Q2, got {text!r}") from None
+    if len(values) != len(model.drivers) or not all(v == v and abs(v) < 1e300 for v in values):
+        raise MechanismError(
+            f"--q: expected {len(model.drivers)} finite value(s), one per driver "
+            f"({', '.join(model.drivers)})"
+        )
+    return values
+
+
+def run(args: argparse.Namespace) -> int:
+    from mjstruct.plot.files import FIGURE_SUFFIXES, check_output
+
+    check_output(args.output, FIGURE_SUFFIXES, name="-o")
+    if args.dpi < 10:
+        raise MechanismError(f"--dpi: must be >= 10, got {args.dpi}")
+    model = read_model(args)
+    layers, paths = layer_options(args, model)
+    q = None if args.q is None else _driver_values(args.q, model)
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mjstruct.plot.drawing import scene_at, write_drawing
+
+    scene = scene_at(model, q, layers, speed=args.speed, paths=paths, stroke=args.stroke)
+    write_drawing(scene, args.output, dpi=args.dpi, name="-o")
+    for w in scene.motion.warnings:
+        import sys
+
+        sys.stderr.write(f"mjstruct draw: warning: {w}\n")
+    return 0

@@ -1,0 +1,310 @@
+"""Charts against the driver coordinate q: angles, ω, ε, paths, Jacobian, transmission.
+
+Owns the registry :data:`CHARTS` that ``mjstruct plot --what`` dispatches on: each
+chart names the derivative order it needs (a chart computes only what it shows) and
+a function that draws it from a solved :class:`~mjstruct.kinematics.model.Motion`.
+Frames that do not assemble are gaps in the curves, shaded grey; the Jacobian and
+transmission charts shade the near-singular frames (|det| below 10⁻³ of its largest
+value over the cycle) red.  Adding a chart is one entry in :data:`CHARTS`.
+
+Examples
+--------
+>>> import matplotlib
+>>> matplotlib.use("Agg")
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> from mjstruct.kinematics.model import KinematicModel
+>>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
+>>> fig = draw_chart(model, "transmission", frames=90)
+>>> [line.get_gid() for line in fig.axes[0].get_lines()][:1]
+['transmission']
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.errors import MechanismError
+from mjstruct.kinematics.model import KinematicModel, Motion
+from mjstruct.plot.layers import dynamics_available
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+FloatArray = npt.NDArray[np.float64]
+
+#: |det| below this fraction of its largest value over the cycle is shaded near-singular
+NEAR_SINGULAR = 1e-3
+#: the usual limits of a good transmission angle (degrees)
+TRANSMISSION_LIMITS = (40.0, 140.0)
+
+
+@dataclass(frozen=True)
+class ChartData:
+    """What a chart draws from: the motion over the cycle and the user's choices."""
+
+    model: KinematicModel
+    motion: Motion
+    speed: float
+    ids: tuple[str, ...] | None
+
+    @property
+    def q(self) -> FloatArray:
+        """The first driver's coordinate over the frames (the abscissa)."""
+        return np.asarray(self.motion.q[:, 0], float)
+
+    def masked(self, values: Any) -> FloatArray:
+        """Real values with the frames that do not assemble set to NaN (gaps)."""
+        a = np.array(values, dtype=float)
+        a[~self.motion.valid] = np.nan
+        return a
+
+
+@dataclass(frozen=True)
+class Chart:
+    """One kind of chart: its derivative order, whether it needs dynamics, its drawer."""
+
+    name: str
+    order: int
+    dynamics: bool
+    help: str
+    draw: Callable[[ChartData, Figure], None]
+
+
+def _links(data: ChartData) -> list[str]:
+    m = data.model.mechanism
+    if data.ids is None:
+        return [x for x in m.links if x != data.model.frame]
+    for x in data.ids:
+        if x not in m.links:
+            raise MechanismError(f"ids: {x!r} is not a link")
+    return list(data.ids)
+
+
+def _link_chart(order: int, label: str, unit: str) -> Callable[[ChartData, Figure], None]:
+    def draw(data: ChartData, fig: Figure) -> None:
+        ax = fig.add_subplot()
+        for link in _links(data):
+            y = data.motion.angle(link)[order] * data.speed**order
+            ax.plot(data.q, data.masked(y), lw=1.4, label=f"link {link}", gid=f"link:{link}")
+        _finish(ax, data, f"{label} ({unit})")
+        ax.legend(fontsize=8, ncols=2)
+
+    return draw
+
+
+def _point_ids(data: ChartData) -> list[str]:
+    geom = data.model.geometry
+    if data.ids is not None:
+        for x in data.ids:
+            if x not in geom.points and x not in geom.centres:
+                raise MechanismError(f"ids: {x!r} is neither a joint nor a point")
+        return list(data.ids)
+    if geom.points:
+        return list(geom.points)
+    m = data.model.mechanism
+    return [j.id for j in m.joints if not (j.kind == "R" and data.model.frame in j.links)]
+
+
+def _paths(data: ChartData, fig: Figure) -> None:
+    geom = data.model.geometry
+    ax_x = fig.add_subplot(2, 1, 1)
+    ax_y = fig.add_subplot(2, 1, 2, sharex=ax_x)
+    for pid in _point_ids(data):
+        if pid in geom.points:
+            link, z = geom.points[pid]
+            pos = data.motion.point(link, z)[0]
+        else:
+            pos = data.motion.centre(pid)[0]
+        ax_x.plot(data.q, data.masked(pos.real), lw=1.4, label=pid, gid=f"x:{pid}")
+        ax_y.plot(data.q, data.masked(pos.imag), lw=1.4, label=pid, gid=f"y:{pid}")
+    _finish(ax_x, data, "x", xlabel=False)
+    _finish(ax_y, data, "y")
+    ax_x.legend(fontsize=8, ncols=2)
+
+
+def jacobian_determinant(motion: Motion) -> FloatArray:
+    """Determinant of the driver-fixed constraint Jacobian at every frame (NaN: no assembly)."""
+    from mjstruct.kinematics.jacobian import constraint_jacobian
+
+    model = motion.model
+    J, D = constraint_jacobian(
+        model.mechanism, model.geometry, motion.evaluation.poses, model.drivers
+    )
+    A = np.concatenate([J, D], axis=1)
+    det = np.full(A.shape[0], np.nan)
+    ok = motion.valid & np.isfinite(A).all(axis=(1, 2))
+    if A.shape[1] != A.shape[2]:
+        raise MechanismError("drivers: the constraint Jacobian is not square with these drivers")
+    if ok.any():
+        det[ok] = np.linalg.det(A[ok])
+    return det
+
+
+def near_singular(det: FloatArray) -> npt.NDArray[np.bool_]:
+    """Frames whose |det| is below :data:`NEAR_SINGULAR` of its largest value."""
+    a = np.abs(det)
+    if not np.isfinite(a).any():
+        return np.zeros(a.shape, bool)
+    return np.asarray(a < NEAR_SINGULAR * np.nanmax(a), bool)
+
+
+def _jacobian(data: ChartData, fig: Figure) -> None:
+    ax = fig.add_subplot()
+    det = jacobian_determinant(data.motion)
+    ax.plot(data.q, det, lw=1.4, color="tab:blue", gid="jacobian")
+    ax.axhline(0.0, color="0.5", lw=0.8)
+    _shade(ax, data.q, near_singular(det), "tab:red", "near-singular", "singular")
+    _finish(ax, data, "det J (drivers fixed)")
+    _legend(ax)
+
+
+def fourbar_joints(model: KinematicModel) -> tuple[str, str, str]:
+    """(crank–coupler joint A, coupler–rocker joint P, rocker–frame joint Q) of a four-bar."""
+    m = model.mechanism
+    if m.n != 4 or len(m.joints) != 4 or any(j.kind != "R" or j.is_multiple for j in m.joints):
+        raise MechanismError("what: the transmission angle needs a four-bar (4 links, 4 pins)")
+    (d,) = model.drivers if len(model.drivers) == 1 else (None,)
+    if d is None or model.frame not in m.joint(d).links:
+        raise MechanismError("drivers: the transmission angle needs one driver on the frame")
+    crank = next(x for x in m.joint(d).links if x != model.frame)
+    a = next(j.id for j in m.joints if crank in j.links and j.id != d)
+    coupler = next(x for x in m.joint(a).links if x != crank)
+    p = next(j.id for j in m.joints if coupler in j.links and j.id != a)
+    q = next(j.id for j in m.joints if j.id not in (d, a, p))
+    return a, p, q
+
+
+def transmission_angle(motion: Motion) -> FloatArray:
+    """Angle (radians, 0..π) between coupler and rocker at their joint, over the frames."""
+    a, p, q = fourbar_joints(motion.model)
+    za, zp, zq = (np.asarray(motion.centre(j)[0]) for j in (a, p, q))
+    return np.asarray(np.abs(np.angle((za - zp) / (zq - zp))), dtype=np.float64)
+
+
+def _transmission(data: ChartData, fig: Figure) -> None:
+    ax = fig.add_subplot()
+    mu = np.degrees(transmission_angle(data.motion))
+    ax.plot(data.q, data.masked(mu), lw=1.4, color="tab:blue", gid="transmission")
+    for limit in TRANSMISSION_LIMITS:
+        ax.axhline(limit, color="0.4", lw=0.8, ls=":", gid="limit")
+    det = jacobian_determinant(data.motion)
+    _shade(ax, data.q, near_singular(det), "tab:red", "near-singular", "singular")
+    ax.set_ylim(0, 180)
+    _finish(ax, data, "transmission angle (degrees)")
+    _legend(ax)
+
+
+def _shade(
+    ax: Axes, q: FloatArray, mask: npt.NDArray[np.bool_], colour: str, label: str, gid: str
+) -> None:
+    """Shade the runs of frames where ``mask`` holds (half a step either side)."""
+    if q.size < 2:
+        return
+    half = 0.5 * abs(q[1] - q[0])
+    k, first = 0, True
+    while k < q.size:
+        if not mask[k]:
+            k += 1
+            continue
+        e = k
+        while e + 1 < q.size and mask[e + 1]:
+            e += 1
+        lo, hi = sorted((q[k], q[e]))
+        ax.axvspan(
+            lo - half,
+            hi + half,
+            color=colour,
+            alpha=0.25,
+            lw=0,
+            label=label if first else None,
+            gid=gid,
+        )
+        first = False
+        k = e + 1
+
+
+def _finish(ax: Axes, data: ChartData, ylabel: str, xlabel: bool = True) -> None:
+    _shade(ax, data.q, ~data.motion.valid, "0.5", "does not assemble", "gap")
+    ax.set_ylabel(ylabel)
+    if xlabel:
+        d = data.model.drivers[0]
+        unit = "rad" if data.model.mechanism.joint(d).kind == "R" else "length"
+        ax.set_xlabel(f"q = driver {d} ({unit})")
+    ax.grid(True, lw=0.4, alpha=0.5)
+
+
+def _legend(ax: Axes) -> None:
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
+
+
+def _needs_dynamics(name: str) -> Callable[[ChartData, Figure], None]:
+    def draw(data: ChartData, fig: Figure) -> None:
+        raise MechanismError(f"what: chart {name!r} needs the dynamics plug-in")
+
+    return draw
+
+
+CHARTS: dict[str, Chart] = {
+    c.name: c
+    for c in (
+        Chart("angles", 0, False, "link angles against q", _link_chart(0, "angle", "rad")),
+        Chart("omega", 1, False, "angular velocities ω against q", _link_chart(1, "ω", "rad/s")),
+        Chart("eps", 2, False, "angular accelerations ε against q", _link_chart(2, "ε", "rad/s²")),
+        Chart("paths", 0, False, "x and y of points against q", _paths),
+        Chart("jacobian", 0, False, "driver-fixed Jacobian determinant against q", _jacobian),
+        Chart(
+            "transmission", 0, False, "transmission angle of a four-bar against q", _transmission
+        ),
+        Chart("V", 0, True, "reduced moment of inertia V(q)", _needs_dynamics("V")),
+        Chart("Q", 0, True, "generalised force Q(q)", _needs_dynamics("Q")),
+        Chart("qdot", 0, True, "driver speed q̇(q) under the loads", _needs_dynamics("qdot")),
+        Chart("qddot", 0, True, "driver acceleration q̈(q)", _needs_dynamics("qddot")),
+        Chart("reactions", 0, True, "joint reactions against q", _needs_dynamics("reactions")),
+    )
+}
+
+
+def chart(what: str, name: str = "what") -> Chart:
+    """The chart called ``what``; ``name`` is what error messages call the choice."""
+    if what not in CHARTS:
+        raise MechanismError(f"{name}: unknown chart {what!r} (known: {', '.join(CHARTS)})")
+    c = CHARTS[what]
+    if c.dynamics:
+        where = "is not installed" if not dynamics_available() else "has no chart for it yet"
+        raise MechanismError(
+            f"{name}: chart {what!r} needs the dynamics plug-in (mjstruct.dynamics), which {where}"
+        )
+    return c
+
+
+def draw_chart(
+    model: KinematicModel,
+    what: str,
+    frames: int = 360,
+    speed: float = 1.0,
+    stroke: float = 1.0,
+    ids: Sequence[str] | None = None,
+    fig: Figure | None = None,
+) -> Figure:
+    """Solve one cycle to the order chart ``what`` needs and draw it; returns the figure."""
+    import matplotlib.pyplot as plt
+
+    c = chart(what)
+    if not math.isfinite(speed) or speed == 0:
+        raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
+    motion = model.motion(model.sweep(frames, speed, stroke), order=c.order)
+    data = ChartData(model, motion, speed, None if ids is None else tuple(ids))
+    if fig is None:
+        fig = plt.figure(figsize=(7, 5.5 if what == "paths" else 4.2))
+    c.draw(data, fig)
+    fig.suptitle(f"{model.mechanism.name or 'mechanism'}: {c.help}", fontsize=10)
+    return fig

@@ -1,0 +1,295 @@
+"""Drawings: what is drawn (pins, polygons, MJ marks, blocks, vectors) against the model,
+and that a scene asks the kinematics only for the order its layers need."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.patches import Circle, Polygon
+
+from mjstruct.catalog_files import example_path
+from mjstruct.errors import MechanismError
+from mjstruct.io import mechanism_from_dict, read_mechanism
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.kinematics.solver import kinematic_analysis
+from mjstruct.plot.drawing import (
+    artists,
+    draw_scene,
+    guide_sides,
+    scene_at,
+    scene_over_cycle,
+)
+from mjstruct.plot.layers import kinematic_order, parse_layers
+
+
+def model_of(name: str, drivers=None) -> KinematicModel:
+    return KinematicModel.build(read_mechanism(example_path(name)), drivers)
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def one(ax, gid):
+    found = artists(ax, gid)
+    assert len(found) == 1, (gid, found)
+    return found[0]
+
+
+def polygon_centre(poly: Polygon) -> complex:
+    xy = poly.get_xy()[:4]
+    return complex(xy[:, 0].mean(), xy[:, 1].mean())
+
+
+@pytest.mark.parametrize("name", ["slider-crank", "kin-radial-engine-5", "zhivago", "scotch-yoke"])
+def test_drawn_centres_are_the_kinematics_positions(name):
+    m = read_mechanism(example_path(name))
+    r = kinematic_analysis(m, frames=8, checks=False)
+    model = r.model
+    k = 3
+    ax = draw_scene(scene_at(model, q=r.q[k]))
+    tol = 1e-9 * model.scale
+    for j in m.joints:
+        want = complex(r.joints[j.id]["x"][k], r.joints[j.id]["y"][k])
+        pin = one(ax, f"joint:{j.id}")  # one pin (or block) artist per joint
+        if j.kind == "R":
+            assert isinstance(pin, Circle)
+            assert abs(complex(*pin.center) - want) <= tol
+        else:
+            assert isinstance(pin, Polygon)
+            if guide_sides(model, j.id)[1] == j.links[1]:  # the block carries the centre
+                assert abs(polygon_centre(pin) - want) <= 1e-6 * model.scale
+
+
+def test_mj_marks_and_polygons():
+    m = read_mechanism(example_path("kin-radial-engine-5"))
+    ax = draw_scene(scene_at(KinematicModel.build(m)))
+    for j in m.joints:
+        marks = artists(ax, f"mj:{j.id}")
+        if j.is_multiple:  # one dot per link on the pin's ring
+            assert len(marks) == 1 and len(marks[0].get_offsets()) == len(j.links)
+        else:
+            assert marks == []
+    # the sliders are blocks on hatched frame guides, the crank pin is the driver
+    assert len([a for a in artists(ax, "joint") if isinstance(a, Polygon)]) == 5
+    assert len(artists(ax, "guide")) == 5
+    assert artists(ax, "driver:O")
+    assert len(artists(ax, "ground")) == 2  # triangle and hatching of the one frame pivot
+
+
+def test_polygon_count_follows_the_links():
+    m = read_mechanism(example_path("zhivago"))
+    model = KinematicModel.build(m)
+    ax = draw_scene(scene_at(model))
+    expected = 0
+    for link in m.links:
+        if link == m.frame:
+            continue
+        z = np.array(
+            sorted(
+                {model.geometry.centres[j] for j in m.link_joints[link]},
+                key=lambda c: (c.real, c.imag),
+            )
+        )
+        if len(z) >= 3:
+            d = z - z.mean()
+            if np.abs(np.imag(np.conj(d[:, None]) * d[None, :])).max() > 1e-6 * model.scale**2:
+                expected += 1
+    polys = [a for a in artists(ax, "link") if isinstance(a, Polygon)]
+    assert expected >= 1
+    assert len(polys) == expected
+
+
+def test_vectors_only_when_asked_and_equal_to_sigma_times_speed():
+    m = read_mechanism(example_path("slider-crank"))
+    model = KinematicModel.build(m)
+    plain = draw_scene(scene_at(model))
+    assert artists(plain, "velocity") == [] and artists(plain, "acceleration") == []
+    r = kinematic_analysis(m, frames=8, speed=2.5, checks=False)
+    k = 2
+    scene = scene_at(model, q=r.q[k], layers=("velocity",), speed=2.5)
+    ax = draw_scene(scene)
+    assert artists(ax, "acceleration") == []
+    quiver = one(ax, "velocity")
+    sites = {
+        complex(x, y): complex(u, v)
+        for (x, y), u, v in zip(quiver.get_offsets(), quiver.U, quiver.V, strict=True)
+    }
+    for jid in ("A", "B"):
+        z = complex(r.joints[jid]["x"][k], r.joints[jid]["y"][k])
+        v = complex(r.joints[jid]["vx"][k], r.joints[jid]["vy"][k])
+        got = next(w for p, w in sites.items() if abs(p - z) < 1e-9)
+        assert abs(got - v) <= 1e-9 * max(1.0, abs(v))
+    ax2 = draw_scene(scene_at(model, q=r.q[k], layers=("acceleration",), speed=2.5))
+    assert artists(ax2, "velocity") == [] and len(artists(ax2, "acceleration")) == 1
+
+
+@pytest.fixture
+def orders(monkeypatch):
+    asked: list[int] = []
+    original = KinematicModel.motion
+
+    def recording(self, q, order=2, *args, **kwargs):
+        asked.append(order)
+        return original(self, q, order, *args, **kwargs)
+
+    monkeypatch.setattr(KinematicModel, "motion", recording)
+    return asked
+
+
+@pytest.mark.parametrize(
+    ("layers", "expected"),
+    [
+        ((), [0]),
+        (("assur",), [0]),
+        (("velocity",), [1]),
+        (("acceleration",), [2]),
+        (("velocity", "acceleration"), [2]),
+        (("paths",), [0, 0]),
+    ],
+)
+def test_a_drawing_computes_only_what_it_shows(orders, layers, expected):
+    draw_scene(scene_at(model_of("slider-crank"), q=1.0, layers=layers))
+    assert orders == expected
+
+
+@pytest.mark.parametrize(("layers", "expected"), [((), [0]), (("velocity", "paths"), [1])])
+def test_an_animation_scene_computes_only_what_it_shows(orders, layers, expected):
+    scene = scene_over_cycle(model_of("four-bar"), 6, layers)
+    assert orders == expected
+    assert scene.motion.order == expected[0]
+
+
+def test_layers_parse_and_orders():
+    assert parse_layers("velocity, assur,velocity") == ("velocity", "assur")
+    assert kinematic_order(("paths", "assur")) == 0
+    with pytest.raises(MechanismError, match="show: unknown layer 'speed'"):
+        parse_layers("speed")
+    with pytest.raises(MechanismError, match="needs the dynamics plug-in"):
+        parse_layers("reactions")
+
+
+def test_assur_layer_colours_groups():
+    model = model_of("kin-radial-engine-5")
+    ax = draw_scene(scene_at(model, layers=("assur",)))
+    scene = scene_at(model, layers=("assur",))
+    d = scene.decomposition
+    assert d is not None and len(d.groups) == 5
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert sum(t.startswith("group") for t in texts) == len(d.groups)
+    from matplotlib.colors import to_rgb
+
+    bar = {a.get_gid(): to_rgb(a.get_color()) for a in artists(ax, "link")}
+    # each group (connecting rod, piston) in its own colour: the rod's bar and the
+    # piston's block share it, and the groups differ
+    rods = [g.links[0] for g in d.groups]
+    assert len({bar[f"link:{x}"] for x in rods}) == len(rods)
+    for g in d.groups:
+        slider = next(
+            j
+            for j in scene.model.geometry.axes
+            if g.links[1] in scene.model.mechanism.joint(j).links
+        )
+        block = one(ax, f"joint:{slider}")
+        assert to_rgb(block.get_facecolor()) == bar[f"link:{g.links[0]}"]
+
+
+def scaled(name: str, factor: float) -> KinematicModel:
+    from mjstruct.io import mechanism_to_dict
+
+    d = mechanism_to_dict(read_mechanism(example_path(name)))
+    for j in d["joints"]:
+        j["at"] = [factor * x for x in j["at"]]
+    for p in d.get("points", []):
+        p["at"] = [factor * x for x in p["at"]]
+    return KinematicModel.build(mechanism_from_dict(d))
+
+
+def test_drawing_is_the_same_at_any_scale():
+    ref = scene_at(scaled("slider-crank", 1.0), q=1.0, layers=("velocity", "paths"))
+    for factor in (1e-3, 100.0):
+        s = scene_at(scaled("slider-crank", factor), q=1.0, layers=("velocity", "paths"))
+        assert np.allclose(np.array(s.limits) / factor, ref.limits, rtol=1e-9, atol=1e-12)
+        assert s.pin == pytest.approx(ref.pin * factor)
+        ax = draw_scene(s)
+        circle = one(ax, "joint:A")
+        assert circle.radius == pytest.approx(s.pin)
+
+
+def test_animation_limits_cover_every_frame():
+    scene = scene_over_cycle(model_of("kin-radial-engine-5"), 12, ("velocity",))
+    x0, x1, y0, y1 = scene.limits
+    for j in scene.model.mechanism.joints:
+        z = scene.motion.centre(j.id)[0]
+        assert (z.real > x0).all() and (z.real < x1).all()
+        assert (z.imag > y0).all() and (z.imag < y1).all()
+
+
+def gappy_four_bar() -> KinematicModel:
+    # the coupler is the shortest link (a Grashof double rocker) driven as a crank
+    return KinematicModel.build(
+        mechanism_from_dict(
+            {
+                "frame": "0",
+                "drivers": ["O1"],
+                "joints": [
+                    {"id": "O1", "links": ["0", "1"], "at": [0, 0]},
+                    {"id": "A", "links": ["1", "2"], "at": [0, 2]},
+                    {"id": "B", "links": ["2", "3"], "at": [1.0, 2.0]},
+                    {"id": "O2", "links": ["3", "0"], "at": [2.6, 0]},
+                ],
+            }
+        )
+    )
+
+
+def test_frames_that_do_not_assemble_are_gaps_with_a_note():
+    scene = scene_over_cycle(gappy_four_bar(), 24)
+    bad = np.flatnonzero(~scene.motion.valid)
+    good = np.flatnonzero(scene.motion.valid)
+    assert bad.size and good.size
+    ax = draw_scene(scene, int(bad[0]))
+    assert "does not assemble" in one(ax, "note").get_text()
+    assert artists(ax, "joint") == [] and artists(ax, "ground")  # the frame stays
+    ax2 = draw_scene(scene, int(good[0]), ax=plt.figure().add_subplot())
+    assert artists(ax2, "note") == [] and len(artists(ax2, "joint")) == 4
+
+
+def test_branch_points_are_marked():
+    parallelogram = mechanism_from_dict(
+        {
+            "frame": "0",
+            "drivers": ["O1"],
+            "joints": [
+                {"id": "O1", "links": ["0", "1"], "at": [0, 0]},
+                {"id": "A", "links": ["1", "2"], "at": [0, 1]},
+                {"id": "B", "links": ["2", "3"], "at": [2, 1]},
+                {"id": "O2", "links": ["3", "0"], "at": [2, 0]},
+            ],
+        }
+    )
+    scene = scene_over_cycle(KinematicModel.build(parallelogram), 36)
+    assert scene.motion.events
+    e = scene.motion.events[0]
+    ax = draw_scene(scene, e.frame)
+    marks = artists(ax, "branch")
+    assert any(e.kind in getattr(a, "get_text", lambda: "")() for a in marks)
+    quiet = next(k for k in range(36) if all(ev.frame != k for ev in scene.motion.events))
+    assert artists(draw_scene(scene, quiet, ax=plt.figure().add_subplot()), "branch") == []
+
+
+def test_bad_arguments_name_the_parameter():
+    model = model_of("slider-crank")
+    with pytest.raises(MechanismError, match=r"^q: "):
+        scene_at(model, q=[1.0, 2.0])
+    with pytest.raises(MechanismError, match=r"^paths: 'Z'"):
+        scene_at(model, layers=("paths",), paths=["Z"])
+    with pytest.raises(MechanismError, match=r"^speed: "):
+        scene_at(model, speed=0.0)
