@@ -1,0 +1,603 @@
+"""Singular positions of a one-DOF linkage: input limits, output extremes, change points.
+
+Owns the analysis behind ``mjstruct singular``: along every branch of the
+configuration curve through the reference (continued through change points, traced
+by :mod:`mjstruct.kinematics.singular_curve`) it finds
+
+* **input limits**: the Jacobian minor without the input column vanishes (the input
+  stops and reverses; four-bar: coupler in line with the output),
+* **output extremes**: the minor without the output column vanishes (the output
+  reverses; four-bar: input in line with the coupler),
+* **change points**: the whole Jacobian loses rank (branches cross; four-bar: all
+  four centres in line),
+
+each located by root refinement (Brent's method on the tangent's input or output
+component; a Gauss-Newton system for change points), with the joints in line there,
+the clearance zone of each collinear pair, the input's range and, for a four-bar,
+the closed-form theory of :mod:`mjstruct.kinematics.fourbar`.  A branch along which
+a minor vanishes identically (a joint sitting on another over a range: MS2's dwell,
+MS5's locked input) is a fold arc, named in the warnings.
+
+Examples
+--------
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> r = singular_analysis(read_mechanism(example_path("fourbar-ms4")))
+>>> [(p.kind, round(float(np.degrees(p.q)), 6)) for p in r.singular]
+[('output_extreme', 104.477512), ('change_point', 360.0), ('output_extreme', 255.522488)]
+>>> r.fourbar.motion, round(float(np.degrees(r.fourbar.swing)), 2)
+('crank-rocker', 141.06)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.errors import MechanismError
+from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
+from mjstruct.kinematics.fourbar import FourBar, fourbar_theory
+from mjstruct.kinematics.singular_curve import (
+    Branch,
+    ClosureEquations,
+    point_on_step,
+    tangent,
+    trace_component,
+    wrap_delta,
+)
+from mjstruct.mechanism import Mechanism
+
+FloatArray = npt.NDArray[np.float64]
+
+KINDS = ("input_limit", "output_extreme", "change_point")
+#: a minor this small (tangent component) along a whole branch makes a fold arc
+FOLD_TOL = 1e-9
+#: three centres are in line when the triangle's sine is below this
+COLLINEAR_TOL = 1e-7
+
+
+@dataclass(frozen=True)
+class Zone:
+    """Clearance zone of one collinear pair at a singular position.
+
+    Attributes
+    ----------
+    pair : the two links in line (``None`` when no pair is: the zone of the whole
+        position, measured on ``link``).
+    link : the longer link of the pair, whose turn about its pivot is ``psi``.
+    psi : zone angle (rad): formula (3) for a four-bar, else the leading order.
+    method : ``"formula-3"`` or ``"leading-order"``.
+    psi_exact : the feasibility search's angle (only when asked for).
+    """
+
+    pair: tuple[str, str] | None
+    link: str
+    psi: float | None
+    method: str
+    psi_exact: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        d: dict[str, Any] = {
+            "pair": None if self.pair is None else list(self.pair),
+            "link": self.link,
+            "psi": _num(self.psi),
+            "method": self.method,
+        }
+        if self.psi_exact is not None:
+            d["psi_exact"] = _num(self.psi_exact)
+        return d
+
+
+@dataclass(frozen=True)
+class SingularPosition:
+    """One singular position on the configuration curve.
+
+    Attributes
+    ----------
+    kind : ``input_limit``, ``output_extreme`` or ``change_point``.
+    q : driver coordinate (revolute: in [q_ref, q_ref + 2 pi)).
+    output_angle : the output link's angle (rad, in (-pi, pi]).
+    collinear : ids of the joints in line (file order).
+    pairs : pairs of moving links in line with their shared joint.
+    zone : clearance zones, one per pair (``None`` without a clearance).
+    """
+
+    kind: str
+    q: float
+    output_angle: float
+    collinear: tuple[str, ...]
+    pairs: tuple[tuple[str, str], ...]
+    zone: tuple[Zone, ...] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        d: dict[str, Any] = {
+            "kind": self.kind,
+            "q": _num(self.q),
+            "output_angle": _num(self.output_angle),
+            "collinear": list(self.collinear),
+        }
+        if self.zone is not None:
+            d["zone"] = [z.to_dict() for z in self.zone]
+        return d
+
+
+@dataclass(frozen=True)
+class InputRange:
+    """Where the input can be: a full turn, or increasing ``[q_from, q_to]`` intervals."""
+
+    full_turn: bool
+    intervals: tuple[tuple[float, float], ...]
+
+
+@dataclass(frozen=True)
+class SingularAnalysis:
+    """Result of :func:`singular_analysis` (the ``mjstruct singular`` JSON object)."""
+
+    input: str
+    output: str
+    singular: tuple[SingularPosition, ...]
+    input_range: InputRange
+    fourbar: FourBar | None
+    warnings: tuple[str, ...]
+    clearance: float | None
+    branches: int
+    revolute: bool = True
+
+    def to_dict(self) -> dict[str, Any]:
+        """The contract's JSON object (no NaN: missing numbers are null)."""
+        fb: dict[str, Any] | None = None
+        if self.fourbar is not None:
+            f = self.fourbar
+            fb = {
+                "MS": [_num(p) for p in f.MS],
+                "grashof": f.grashof,
+                "motion": f.motion,
+                "system4": list(f.system4),
+                "swing": _num(f.swing),
+                "time_ratio": _num(f.time_ratio),
+            }
+        return {
+            "input": self.input,
+            "output": self.output,
+            "singular": [p.to_dict() for p in self.singular],
+            "input_range": {
+                "full_turn": self.input_range.full_turn,
+                "intervals": [[_num(a), _num(b)] for a, b in self.input_range.intervals],
+            },
+            "fourbar": fb,
+            "clearance": _num(self.clearance),
+            "warnings": list(self.warnings),
+        }
+
+
+def _num(v: float | None) -> float | None:
+    return None if v is None or not math.isfinite(v) else float(v)
+
+
+def dof(m: Mechanism) -> int:
+    """Grübler's count 3(n - 1) - 2 sum(multiplicity) (R and P joints alike)."""
+    return 3 * (len(m.links) - 1) - 2 * sum(j.multiplicity for j in m.joints)
+
+
+def _is_fourbar(m: Mechanism) -> bool:
+    return (
+        len(m.links) == 4
+        and len(m.joints) == 4
+        and all(j.kind == "R" and len(j.links) == 2 for j in m.joints)
+    )
+
+
+def fourbar_lengths(
+    m: Mechanism, eq: ClosureEquations
+) -> tuple[float, float, float, float] | None:
+    """(l0, l1, l2, l3) of a four-bar driven at a frame joint, else ``None``."""
+    if not _is_fourbar(m) or m.frame not in m.joint(eq.driver).links:
+        return None
+    d = m.joint(eq.driver)
+    inp = next(x for x in d.links if x != m.frame)
+    other = next(j for j in m.joints if j.id != d.id and m.frame in j.links)
+    out = next(x for x in other.links if x != m.frame)
+    coupler = next(x for x in m.links if x not in (m.frame, inp, out))
+    A = next(j.id for j in m.joints if set(j.links) == {inp, coupler})
+    B = next(j.id for j in m.joints if set(j.links) == {coupler, out})
+    c = eq.geometry.centres
+    return (
+        abs(c[other.id] - c[d.id]),
+        abs(c[A] - c[d.id]),
+        abs(c[B] - c[A]),
+        abs(c[other.id] - c[B]),
+    )
+
+
+def _collinear(
+    eq: ClosureEquations, x: FloatArray
+) -> tuple[tuple[str, ...], list[tuple[str, str, str, str, str]]]:
+    """Joints in line at ``x``, and (link a, link b, joint, joint on a, joint on b) triples."""
+    m = eq.mechanism
+    pos = {j.id: eq.joint_position(x, j.id) for j in m.joints}
+    found: set[str] = set()
+    triples: list[tuple[str, str, str, str, str]] = []
+    for j in m.joints:
+        if j.kind != "R":
+            continue
+        for i, a in enumerate(j.links):
+            for b in j.links[i + 1 :]:
+                for ja in m.link_joints[a]:
+                    for jb in m.link_joints[b]:
+                        if j.id in (ja, jb) or ja == jb:
+                            continue
+                        if m.joint(ja).kind != "R" or m.joint(jb).kind != "R":
+                            continue
+                        u, v = pos[ja] - pos[j.id], pos[jb] - pos[j.id]
+                        den = abs(u) * abs(v)
+                        if den == 0 or abs((u.conjugate() * v).imag) <= COLLINEAR_TOL * den:
+                            found |= {j.id, ja, jb}
+                            triples.append((a, b, j.id, ja, jb))
+    return tuple(jj.id for jj in m.joints if jj.id in found), triples
+
+
+def singular_analysis(
+    mechanism: Mechanism,
+    output: str | None = None,
+    clearance: float | None = None,
+    exact: bool = False,
+) -> SingularAnalysis:
+    """Singular positions of a one-DOF linkage on the curve through its reference.
+
+    Parameters
+    ----------
+    mechanism : one driver, F = 1, every joint with ``at`` (and ``axis`` for sliders).
+    output : the output link (default: the link of the last frame joint that is not
+        the driver).
+    clearance : total radial clearance of the pins (length unit of the file); adds
+        a zone to every singular position.
+    exact : also run the feasibility search for every zone (slower).
+
+    Raises
+    ------
+    MechanismError
+        F != 1, not one driver, an unknown output link, a negative clearance, a
+        linkage that cannot move from its reference configuration.
+    NumericalError
+        the curve could not be traced.
+    """
+    m = mechanism
+    F = dof(m)
+    if F != 1:
+        raise MechanismError(f"mechanism: singular positions need F = 1, this one has F = {F}")
+    if len(m.drivers) != 1:
+        raise MechanismError(
+            f"drivers: singular positions need exactly one driver, got {len(m.drivers)}"
+        )
+    if output is not None:
+        output = str(output)
+        if output not in m.links:
+            raise MechanismError(f"output: {output!r} is not a link of the mechanism")
+        if output == m.frame:
+            raise MechanismError(f"output: {output!r} is the frame")
+    if clearance is not None and not (math.isfinite(clearance) and clearance >= 0):
+        raise MechanismError(f"clearance: must be a finite number >= 0, got {clearance}")
+    driver = m.drivers[0]
+    eq = ClosureEquations.build(m, driver, output)
+    lengths = fourbar_lengths(m, eq)
+    fb = None
+    if lengths is not None:
+        l0, l1, l2, l3 = lengths
+        longest = max(lengths)
+        if longest >= sum(lengths) - longest - 1e-9 * longest:
+            raise MechanismError(
+                "joints.at: the four-bar cannot move from its reference configuration (its "
+                "longest link equals the other three together)"
+            )
+        fb = fourbar_theory(l1 / l0, l2 / l0, l3 / l0)
+    branches, bifs = trace_component(eq, eq.reference())
+    warnings: list[str] = []
+    q_ref = eq.geometry.driver_ref[driver]
+    revolute = m.joint(driver).kind == "R"
+
+    def qwrap(q: float) -> float:
+        if not revolute:
+            return q
+        r = (q - q_ref) % (2 * math.pi)
+        return q_ref + (0.0 if r > 2 * math.pi - 1e-12 else r)
+
+    found: list[tuple[str, FloatArray]] = [("change_point", b.x) for b in bifs]
+    q_spans: list[tuple[float, float, bool]] = []
+    for br in branches:
+        qs = np.array([eq.input(p)[0] for p in br.x])
+        dq = np.array([float(eq.input(p)[1] @ t) for p, t in zip(br.x, br.t, strict=True)])
+        do = np.array([float(eq.output(p)[1] @ t) for p, t in zip(br.x, br.t, strict=True)])
+        limits: list[float] = []
+        fold_in = bool(np.all(np.abs(dq) < FOLD_TOL))
+        fold_out = bool(np.all(np.abs(do) < FOLD_TOL))
+        if fold_in or fold_out:
+            warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0]))))
+        for kind, comp, fold, grad in (
+            ("input_limit", dq, fold_in, eq.input),
+            ("output_extreme", do, fold_out, eq.output),
+        ):
+            if fold:
+                continue
+            for i in np.nonzero(comp[:-1] * comp[1:] < 0)[0]:
+                xr = _refine_root(eq, br, int(i), grad)
+                if xr is None:
+                    near = [b for b in bifs if _near(eq, br.x[i], b.x, 0.1)]
+                    if not near:
+                        warnings.append(
+                            f"{kind}: a sign change near q = {qwrap(float(qs[i])):.9g} could "
+                            "not be located (a tangency); it is not listed"
+                        )
+                    continue
+                if any(float(np.abs(wrap_delta(eq, xr - b.x)).max()) < 1e-6 for b in bifs):
+                    continue
+                found.append((kind, xr))
+                if kind == "input_limit":  # the exact ends of this branch's q span
+                    limits.append(eq.input(xr)[0])
+        winds = revolute and abs(qs[-1] - qs[0]) > math.pi
+        q_spans.append((min([float(qs.min()), *limits]), max([float(qs.max()), *limits]), winds))
+    unique: list[tuple[str, FloatArray]] = []
+    for kind, x in found:
+        if not any(_near(eq, x, y, 1e-7) for _, y in unique):
+            unique.append((kind, x))
+    positions = []
+    for kind, x in unique:
+        coll, triples = _collinear(eq, x)
+        pairs = tuple(dict.fromkeys((a, b) for a, b, *_ in triples if m.frame not in (a, b)))
+        zone = None
+        if clearance is not None:
+            zone = _zones(eq, x, kind, triples, clearance, fb is not None, exact)
+        positions.append(
+            SingularPosition(
+                kind,
+                qwrap(eq.input(x)[0]),
+                float(math.remainder(eq.output_angle(x), 2 * math.pi)),
+                coll,
+                pairs,
+                zone,
+            )
+        )
+    positions.sort(key=lambda p: (p.q, KINDS.index(p.kind), p.output_angle))
+    rng = _input_range(q_spans, q_ref, revolute)
+    return SingularAnalysis(
+        driver,
+        eq.output_link,
+        tuple(positions),
+        rng,
+        fb,
+        tuple(warnings),
+        clearance,
+        len(branches),
+        revolute,
+    )
+
+
+def _refine_root(eq: ClosureEquations, br: Branch, i: int, grad: Any) -> FloatArray | None:
+    """The point between samples i and i+1 where the tangent's component vanishes."""
+    from scipy.optimize import brentq
+
+    x0, t0 = br.x[i], br.t[i]
+
+    def comp(s: float) -> float:
+        x = point_on_step(eq, x0, t0, s)
+        return float(grad(x)[1] @ tangent(eq, x, t0))
+
+    s1 = float(t0 @ (br.x[i + 1] - x0))
+    grid = np.linspace(0.0, s1, 9)
+    vals = [comp(float(s)) for s in grid]
+    for k in range(9):
+        if abs(vals[k]) < 1e-14:
+            return point_on_step(eq, x0, t0, float(grid[k]))
+    for k in range(8):
+        if vals[k] * vals[k + 1] < 0:
+            s = brentq(comp, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
+            return point_on_step(eq, x0, t0, float(s))
+    return None
+
+
+def _near(eq: ClosureEquations, a: FloatArray, b: FloatArray, tol: float) -> bool:
+    return float(np.abs(wrap_delta(eq, a - b)).max()) < tol
+
+
+def _tidy(v: float) -> float:
+    """Round-off below 1e-12 shown as zero."""
+    return 0.0 if abs(v) < 1e-12 else v
+
+
+def _fold_warning(eq: ClosureEquations, br: Branch, fold_in: bool, q0: float) -> str:
+    m = eq.mechanism
+    ids = [j.id for j in m.joints]
+    same = []
+    for i, a in enumerate(ids):
+        for b in ids[i + 1 :]:
+            d = max(abs(eq.joint_position(p, a) - eq.joint_position(p, b)) for p in br.x[::5])
+            if d < 1e-9:
+                same.append(f"{b} sits on {a}")
+        del a
+    what = " and ".join(same) if same else "no two joints coincide"
+    if fold_in:
+        return (
+            f"fold arc: the input stays at q = {_tidy(q0):.9g} along a whole branch while "
+            f"the rest moves ({what}); its positions are not listed"
+        )
+    return (
+        f"fold arc: the output dwells at {_tidy(eq.output_angle(br.x[0])):.9g} rad along a whole "
+        f"branch while the input moves ({what}); its positions are not listed"
+    )
+
+
+def _zones(
+    eq: ClosureEquations,
+    x: FloatArray,
+    kind: str,
+    triples: list[tuple[str, str, str, str, str]],
+    clearance: float,
+    fourbar: bool,
+    exact: bool,
+) -> tuple[Zone, ...]:
+    m = eq.mechanism
+    c = eq.geometry.centres
+    load = [j.id for j in m.joints]
+    per_pin = {jid: clearance / len(load) for jid in load}
+    fixed = "output" if kind == "output_extreme" else "input"
+    out: list[Zone] = []
+    seen: set[tuple[str, str]] = set()
+    for a, b, jid, ja, jb in triples:
+        if m.frame in (a, b) or (a, b) in seen:
+            continue
+        seen.add((a, b))
+        la, lb = abs(c[ja] - c[jid]), abs(c[jb] - c[jid])
+        longer = a if la >= lb else b
+        if fourbar:
+            u = eq.joint_position(x, ja) - eq.joint_position(x, jid)
+            v = eq.joint_position(x, jb) - eq.joint_position(x, jid)
+            stretched = (u.conjugate() * v).real < 0
+            psi: float | None = formula3(max(la, lb), min(la, lb), clearance, stretched)
+            method = "formula-3"
+            f = fixed
+            if kind == "change_point" and longer == eq.output_link:
+                f = "input"
+            elif kind == "change_point":
+                f = "output" if _turns(eq, x, "output", longer) else "input"
+        else:
+            f = fixed if _turns(eq, x, fixed, longer) else _other(fixed)
+            psi = leading_order_zone(eq, x, f, longer, per_pin)
+            method = "leading-order"
+        pe = None
+        if exact:
+            pe = exact_zone(eq, x, f, longer, per_pin, guess=psi)
+        out.append(Zone((a, b), longer, psi, method, pe))
+    if not out:
+        # no pair in line (e.g. a class-III group): the zone of the link turning most
+        vd, _ = _direction(eq, x, fixed)
+        link = max(eq.moving, key=lambda k: abs(vd[3 * eq.moving.index(k) + 2]))
+        psi = leading_order_zone(eq, x, fixed, link, per_pin)
+        pe = exact_zone(eq, x, fixed, link, per_pin, guess=psi) if exact else None
+        out.append(Zone(None, link, psi, "leading-order", pe))
+    return tuple(out)
+
+
+def _other(fixed: str) -> str:
+    return "input" if fixed == "output" else "output"
+
+
+def _direction(eq: ClosureEquations, x: FloatArray, fixed: str) -> tuple[FloatArray, FloatArray]:
+    from mjstruct.kinematics.clearance import singular_direction
+
+    return singular_direction(eq, x, fixed)
+
+
+def _turns(eq: ClosureEquations, x: FloatArray, fixed: str, link: str) -> bool:
+    v, _ = _direction(eq, x, fixed)
+    return bool(abs(v[3 * eq.moving.index(link) + 2]) > 1e-6)
+
+
+def _input_range(
+    spans: Sequence[tuple[float, float, bool]],
+    q_ref: float,
+    revolute: bool,
+) -> InputRange:
+    """Union of the branches' input spans (on the circle for a revolute driver)."""
+    two_pi = 2 * math.pi
+    if revolute and any(w for _, _, w in spans):
+        return InputRange(True, ((q_ref, q_ref + two_pi),))
+    arcs = sorted((lo, hi) for lo, hi, _ in spans)
+    if not revolute:
+        merged: list[list[float]] = []
+        for lo, hi in arcs:
+            if merged and lo <= merged[-1][1] + 1e-12:
+                merged[-1][1] = max(merged[-1][1], hi)
+            else:
+                merged.append([lo, hi])
+        return InputRange(False, tuple((a, b) for a, b in merged))
+    rel = sorted(((lo - q_ref) % two_pi, (lo - q_ref) % two_pi + (hi - lo)) for lo, hi in arcs)
+    merged = []
+    for lo, hi in rel:
+        if merged and lo <= merged[-1][1] + 1e-12:
+            merged[-1][1] = max(merged[-1][1], hi)
+        else:
+            merged.append([lo, hi])
+    if len(merged) > 1 and merged[-1][1] - two_pi >= merged[0][0] - 1e-12:
+        first = merged.pop(0)
+        merged[-1][1] = max(merged[-1][1], first[1] + two_pi)
+    if any(b - a >= two_pi - 1e-9 for a, b in merged):
+        return InputRange(True, ((q_ref, q_ref + two_pi),))
+    return InputRange(False, tuple((q_ref + a, q_ref + b) for a, b in merged))
+
+
+def classify_singular_frames(
+    analysis: SingularAnalysis, q: Sequence[float] | npt.ArrayLike, tol: float
+) -> list[str | None]:
+    """Name the singular position nearest each driver value, within ``tol``.
+
+    For the kinematics report: for every frame's ``q`` (compared modulo 2 pi for a
+    revolute driver) the ``kind`` of the closest singular position within ``tol``
+    (a change point wins a tie), else ``None``.
+
+    >>> from mjstruct.io import read_mechanism
+    >>> from mjstruct.catalog_files import example_path
+    >>> a = singular_analysis(read_mechanism(example_path("fourbar-ms1")))
+    >>> classify_singular_frames(a, [0.0, 1.0, np.pi], 1e-6)
+    ['change_point', None, 'change_point']
+    """
+    out: list[str | None] = []
+    for v in np.asarray(q, float).reshape(-1):
+        best: tuple[float, int] | None = None
+        for p in analysis.singular:
+            d = abs(v - p.q)
+            if analysis.revolute:
+                d = abs(math.remainder(v - p.q, 2 * math.pi))
+            if d <= tol:
+                key = (d, -KINDS.index(p.kind))
+                if best is None or key < best:
+                    best = key
+        out.append(None if best is None else KINDS[-best[1]])
+    return out
+
+
+def render(r: SingularAnalysis) -> str:
+    """Readable report of a :class:`SingularAnalysis` (angles in degrees)."""
+    unit = "deg" if r.revolute else ""
+
+    def qs(v: float) -> str:
+        return f"{math.degrees(v):.6f}" if r.revolute else f"{v:.9g}"
+
+    lines = [f"input: joint {r.input}    output: link {r.output}"]
+    if r.input_range.full_turn:
+        lines.append("input range: full turn")
+    else:
+        parts = ", ".join(f"[{qs(a)}, {qs(b)}]" for a, b in r.input_range.intervals)
+        lines.append(f"input range: {parts} {unit}".rstrip())
+    if r.fourbar is not None:
+        f = r.fourbar
+        sw = "-" if f.swing is None else f"{math.degrees(f.swing):.4f} deg"
+        tr = "-" if f.time_ratio is None else f"{f.time_ratio:.6g}"
+        sys4 = ", ".join(f"(4.{k})" for k in f.system4) or "none"
+        lines += [
+            f"four-bar MS = [{f.MS[0]:.6g} {f.MS[1]:.6g} {f.MS[2]:.6g}]: {f.motion}, "
+            f"{'Grashof' if f.grashof else 'non-Grashof'}; system (4): {sys4}",
+            f"  output swing {sw}, time ratio {tr}",
+        ]
+    lines.append(f"singular positions ({len(r.singular)}):")
+    head = f"  {'kind':<15} {'q ' + unit:>14} {'output deg':>12}  collinear"
+    lines.append(head)
+    for p in r.singular:
+        lines.append(
+            f"  {p.kind:<15} {qs(p.q):>14} {math.degrees(p.output_angle):>12.6f}  "
+            f"{' '.join(p.collinear) or '-'}"
+        )
+        for z in p.zone or ():
+            pair = "-" if z.pair is None else "-".join(z.pair)
+            psi = "-" if z.psi is None else f"{math.degrees(z.psi):.4f}"
+            ex = "" if z.psi_exact is None else f", exact {math.degrees(z.psi_exact):.4f}"
+            lines.append(
+                f"      zone: pair {pair}, link {z.link} turns {psi} deg ({z.method}{ex})"
+            )
+    if r.clearance is not None:
+        lines.append(f"clearance D = {r.clearance:g} (total radial, split evenly over the pins)")
+    lines += [f"warning: {w}" for w in r.warnings]
+    return "\n".join(lines)
