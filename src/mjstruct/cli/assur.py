@@ -9,9 +9,13 @@ Prints the contract's ``groups`` (each with ``links``, ``joints``, ``class``,
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
+
+if TYPE_CHECKING:
+    from mjstruct.structure.assur import DriverChoice
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -30,17 +34,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def _choices_text(choices: list) -> str:
+def _choices_text(choices: list[DriverChoice]) -> str:
     from mjstruct.structure.assur import roman
 
     lines = ["", "Driver choices (admissible first, lowest class first):"]
     for c in choices:
         drivers = ", ".join(c.drivers) or "(none)"
-        if c.status == "ok":
-            groups = "; ".join(
-                f"{roman(g.klass)}({','.join(g.links)})" for g in c.decomposition.groups
-            )
-            lines.append(f"  {drivers}: class {roman(c.mechanism_class)} - groups {groups}")
+        if c.decomposition is not None:  # status "ok"
+            d = c.decomposition
+            groups = "; ".join(f"{roman(g.klass)}({','.join(g.links)})" for g in d.groups)
+            lines.append(f"  {drivers}: class {roman(d.mechanism_class)} - groups {groups}")
         else:
             detail = []
             if c.dof_left:
@@ -63,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(
             "drivers: the file names no drivers; give --drivers J1,J2 or --all-choices"
         )
-    out: dict = {}
+    out: dict[str, Any] = {}
     text = ""
     choices = None
     if args.all_choices:

@@ -25,7 +25,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true")
 
 
-def _ids(chains: list, F: int, n: int) -> dict[str, str]:
+def _ids(chains: list[Any], F: int, n: int) -> dict[str, str]:
     """Catalog ids of the chains, when (F, n) is shipped."""
     from mjstruct.synthesis.catalog import read_catalog
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from mjstruct.cli.output import emit_json, emit_text
 from mjstruct.errors import MechanismError
@@ -35,8 +36,8 @@ def run(args: argparse.Namespace) -> int:
     if args.dof is not None and args.dof < 1:
         raise MechanismError(f"--dof: need F >= 1, got {args.dof}")
     cs = cells(args.kmax)
-    out: dict = {"kmax": args.kmax, "count": len(cs), "cells": []}
-    counts: dict[tuple[int, int], list] = {}
+    out: dict[str, Any] = {"kmax": args.kmax, "count": len(cs), "cells": []}
+    counts: dict[tuple[int, int], list[Any]] = {}
     if args.count:
         rows = code_counts(
             args.dof, args.kmax, args.fractionated, workers=args.workers, with_sj=args.sj
@@ -44,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
         for r in rows:
             counts.setdefault((r.K, r.V), []).append(r)
     for c in cs:
-        d: dict = {"K": c.K, "V": c.V, "MJA": [list(m) for m in c.MJA]}
+        d: dict[str, Any] = {"K": c.K, "V": c.V, "MJA": [list(m) for m in c.MJA]}
         if args.dof is not None:
             d["n"] = link_count(args.dof, c.K)
             d["LA"] = [list(la) for la in link_assortments(c.K, c.V, args.dof)]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from mjstruct.cli.output import emit_json, emit_text
 
@@ -18,7 +19,7 @@ def run(args: argparse.Namespace) -> int:
 
     r = lookup(read_mechanism(args.file))
     if args.json:
-        out: dict = {"found": r.found, "canonical": r.canonical, "F": r.F, "n": r.n}
+        out: dict[str, Any] = {"found": r.found, "canonical": r.canonical, "F": r.F, "n": r.n}
         if r.found:
             rec = r.record
             out.update(

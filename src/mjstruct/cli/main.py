@@ -26,6 +26,7 @@ COMMANDS: dict[str, str] = {
     "animate": "the mechanism animated over one cycle (GIF, HTML, MP4 with ffmpeg)",
     "plot": "charts against q: angles, ω, ε, paths, Jacobian, transmission angle",
     "assur": "Assur-group decomposition (MJs kept whole) and driver choices",
+    "singular": "singular positions (input limits, output extremes, change points) and zones",
     "dynamics": "equation of motion, steady motion, joint reactions and actuator loads",
     "convert": "between mechanism JSON/TOML, pyslvs expressions, GraphML and node-link JSON",
 }

@@ -37,6 +37,7 @@ from mjstruct.errors import MechanismError
 
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
+    from mjstruct.structure.pebble import PebbleGame
 
 
 @dataclass(frozen=True)
@@ -73,18 +74,31 @@ def driver_balance(m: Mechanism, drivers: Iterable[str]) -> DriverBalance:
     >>> b.redundant_drivers, b.dof_left
     (('A',), 0)
     """
+    return play_with_drivers(m, drivers)[2]
+
+
+def play_with_drivers(
+    m: Mechanism, drivers: Iterable[str]
+) -> tuple[PebbleGame, list[tuple[str, str, list[int]]], DriverBalance]:
+    """The game after the chain and the driver bars, its joints with the welds, the balance.
+
+    Bodies are the links in file order; a weld is ``(driver id, "weld", [a, b])``.
+    """
     from mjstruct.structure.pebble import chain_joints, play_chain
 
     drivers = tuple(drivers)
     index = {x: k for k, x in enumerate(m.links)}
-    game, _, chain = play_chain(m.links, chain_joints(m, index))
+    joints = chain_joints(m, index)
+    game, _, chain = play_chain(m.links, joints)
     redundant = []
     for d in drivers:
         a, b = (index[x] for x in m.joint(d).links[:2])
+        joints.append((d, "weld", [a, b]))
         if not game.add_edge(a, b):
             redundant.append(d)
     dof_left = chain.dof - (len(drivers) - len(redundant))
-    return DriverBalance(drivers, chain.dof, tuple(redundant), dof_left, len(chain.redundant))
+    balance = DriverBalance(drivers, chain.dof, tuple(redundant), dof_left, len(chain.redundant))
+    return game, joints, balance
 
 
 def validate_drivers(

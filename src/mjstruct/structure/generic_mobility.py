@@ -32,6 +32,7 @@ from typing import Any
 
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assortments import simple_joint_count
+from mjstruct.structure.drivers import play_with_drivers
 from mjstruct.structure.mobility import dof_grubler
 from mjstruct.structure.pebble import body_components, chain_joints, play_chain
 
@@ -131,17 +132,12 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
         home = next((c for c in comps if m.frame in c), ())
         locked = tuple(x for x in home if x != m.frame)
     free: tuple[str, ...] = ()
-    redundant_drivers: list[str] = []
+    redundant_drivers: tuple[str, ...] = ()
     F_driven = None
     if m.frame is not None and m.drivers:
-        welds = []
-        for d in m.drivers:
-            a, b = (index[x] for x in m.joint(d).links[:2])
-            welds.append((d, "weld", [a, b]))
-            if not game.add_edge(a, b):
-                redundant_drivers.append(d)
-        F_driven = res.dof - (len(m.drivers) - len(redundant_drivers))
-        driven = body_components(game, m.n, joints + welds)
+        driven_game, welded, balance = play_with_drivers(m, m.drivers)
+        redundant_drivers, F_driven = balance.redundant_drivers, balance.dof_left
+        driven = body_components(driven_game, m.n, welded)
         home_k = next((c for c in driven if index[m.frame] in c), [index[m.frame]])
         free = tuple(x for x in m.links if index[x] not in home_k)
     return GenericMobility(
@@ -155,6 +151,6 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
         rigid_subchains=comps,
         locked_links=locked,
         free_links=free,
-        redundant_drivers=tuple(redundant_drivers),
+        redundant_drivers=redundant_drivers,
         F_driven=F_driven,
     )

@@ -21,6 +21,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from mjstruct.mechanism import Mechanism
 
@@ -34,7 +35,7 @@ class SeedInvariants:
     loops: tuple[int, ...] | None
     mj_link_sets: tuple[tuple[int, ...], ...]
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "LA": list(self.LA),
             "MJA": list(self.MJA),

@@ -56,11 +56,11 @@ def is_planar(m: Mechanism) -> bool:
     return bool(nx.check_planarity(m.graph())[0])
 
 
-def _suppressed(g: Adjacency) -> tuple[list, list[tuple[Hashable, Hashable, int]]]:
+def _suppressed(g: Adjacency) -> tuple[list[Hashable], list[tuple[Hashable, Hashable, int]]]:
     """Branch vertices (degree != 2) and the paths between them as weighted edges."""
     branch = [v for v in g if len(g[v]) != 2]
     is_branch = set(branch)
-    seen: set[frozenset] = set()
+    seen: set[frozenset[Hashable]] = set()
     edges = []
     for u in branch:
         for w in g[u]:
@@ -76,7 +76,7 @@ def _suppressed(g: Adjacency) -> tuple[list, list[tuple[Hashable, Hashable, int]
     return branch, edges
 
 
-def _rotation_count(g: Adjacency, branch: list) -> int:
+def _rotation_count(g: Adjacency, branch: list[Hashable]) -> int:
     return math.prod(math.factorial(max(len(g[v]) - 1, 0)) for v in branch)
 
 

@@ -77,7 +77,7 @@ class Chain:
         """The synthesis cell (K, V)."""
         return (self.K, self.V)
 
-    def sort_key(self) -> tuple:
+    def sort_key(self) -> tuple[Any, ...]:
         return (self.V, self.MJA, self.LA, self.canonical)
 
     def mechanism(self, name: str = "") -> Mechanism:

@@ -180,7 +180,7 @@ def _build_index(files: list[Path], path: Path) -> None:
     os.replace(tmp, path)  # atomic: concurrent first uses do not see a half-built index
 
 
-def query(sql: str, params: tuple = ()) -> list[dict[str, Any]]:
+def query(sql: str, params: tuple[Any, ...] = ()) -> list[dict[str, Any]]:
     """Run a read-only query on the index; rows as dicts (LA, MJA, joints decoded)."""
     con = sqlite3.connect(f"file:{index_path()}?mode=ro", uri=True)
     con.row_factory = sqlite3.Row

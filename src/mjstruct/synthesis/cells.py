@@ -22,6 +22,7 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 from mjstruct.structure.mobility import link_count
 
@@ -107,8 +108,8 @@ def code_counts(
     out = []
     for K in range(2, kmax + 1):
         n = link_count(F, K)
-        tally: Counter = Counter()
-        planar: Counter = Counter()
+        tally: Counter[tuple[int, tuple[int, ...], tuple[int, ...]]] = Counter()
+        planar: Counter[tuple[int, tuple[int, ...], tuple[int, ...]]] = Counter()
         for LA, MJA, V, is_planar, is_frac in _chains(F, n, workers):
             if is_frac and not fractionated:
                 continue
@@ -123,7 +124,7 @@ def code_counts(
     return out
 
 
-def _chains(F: int, n: int, workers: int) -> list[tuple]:
+def _chains(F: int, n: int, workers: int) -> list[tuple[Any, ...]]:
     from mjstruct.synthesis.catalog import SHIPPED, read_catalog
 
     if (F, n) in SHIPPED:

@@ -103,7 +103,9 @@ def degree_sequences(K: int, mj: bool) -> list[tuple[Vertex, ...]]:
     return sorted(set(out), key=lambda s: (len(s), [(-d, c) for c, d in s]))
 
 
-def _certificate(colours: list[str], done: list[bool], residual: list[int], edges: list) -> bytes:
+def _certificate(
+    colours: list[str], done: list[bool], residual: list[int], edges: list[tuple[int, int]]
+) -> bytes:
     """Nauty certificate of a (partial) multigraph; edges become coloured nodes."""
     nv = len(colours)
     classes: dict[tuple[int, str, int], set[int]] = {}
@@ -115,7 +117,8 @@ def _certificate(colours: list[str], done: list[bool], residual: list[int], edge
     ends = [[u] if u == v else [u, v] for u, v in edges]
     g = nauty_graph(nv, ends, [classes[k] for k in sorted(classes)])
     tag = repr(sorted((k, len(c)) for k, c in classes.items())).encode()
-    return tag + b"|" + pynauty.certificate(g)
+    cert: bytes = pynauty.certificate(g)
+    return tag + b"|" + cert
 
 
 def _complete_vertex(
@@ -126,7 +129,7 @@ def _complete_vertex(
     r = residual[i]
     later = [j for j in range(i + 1, nv) if residual[j] > 0]
 
-    def spread(k: int, left: int, acc: list[tuple[int, int]]) -> Iterator[list]:
+    def spread(k: int, left: int, acc: list[tuple[int, int]]) -> Iterator[list[tuple[int, int]]]:
         if left == 0:
             yield list(acc)
             return
