@@ -24,7 +24,7 @@ Examples
 >>> from mjstruct.catalog_files import example_path
 >>> r = singular_analysis(read_mechanism(example_path("fourbar-ms4")))
 >>> [(p.kind, round(float(np.degrees(p.q)), 6)) for p in r.singular]
-[('output_extreme', 104.477512), ('change_point', 360.0), ('output_extreme', 255.522488)]
+[('output_extreme', 70.528779), ('output_extreme', 289.471221), ('change_point', 360.0)]
 >>> r.fourbar.motion, round(float(np.degrees(r.fourbar.swing)), 2)
 ('crank-rocker', 141.06)
 """
