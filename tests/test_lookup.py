@@ -143,3 +143,154 @@ def test_index_falls_back_to_temp_dir(tmp_path: Path, monkeypatch: pytest.Monkey
     assert catalog.query("SELECT count(*) AS c FROM chains")[0]["c"] == sum(
         len(read_catalog(F, n)) for F, n in SHIPPED
     )
+
+
+# -- the index cache: hostile paths, planted files, corruption, no place to write -----
+
+
+def _watt_name() -> str:
+    return lookup(read_mechanism(ROOT / "catalogs" / "examples" / "watt.json")).record["name"]
+
+
+def _block_home(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Only the temporary-directory fallback is left; returns that temp root."""
+    import tempfile
+
+    blocker = tmp_path / "not-a-dir"
+    blocker.write_text("")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
+    monkeypatch.setenv("HOME", str(blocker))
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp))
+    return tmp
+
+
+@pytest.mark.parametrize("odd", ["a?mode=rw", "b#frag", "c%41d", "d?x=1#y"])
+def test_cache_path_with_uri_characters_stays_inside(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, odd: str
+) -> None:
+    from mjstruct.synthesis import catalog
+
+    cache = tmp_path / odd
+    monkeypatch.setenv("XDG_CACHE_HOME", str(cache))
+    assert _watt_name() == "Watt six-bar"
+    path = catalog.index_path()
+    assert path is not None and path.parent == cache / "mjstruct"
+    # nothing was written outside the literal directory (no "a" for "a?mode=rw")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [odd]
+
+
+def test_planted_temp_dir_of_another_user_is_not_trusted(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import os
+    import sqlite3
+
+    from mjstruct.synthesis import catalog
+
+    tmp = _block_home(tmp_path, monkeypatch)
+    planted = tmp / f"mjstruct-{os.getuid()}"
+    planted.mkdir(mode=0o777)
+    planted.chmod(0o777)  # writable by anyone: someone else could have put an index here
+    files = sorted(catalog.atlas_dir().glob("*.jsonl"))
+    fake = planted / f"catalog-{catalog._catalog_hash(files)}.sqlite"
+    con = sqlite3.connect(fake)
+    catalog._fill(con, [])  # an index that knows no chain
+    con.close()
+    assert catalog.index_path() is None  # refused; nowhere else to write
+    assert _watt_name() == "Watt six-bar"  # answered from an index built in memory
+    if os.getuid() == 0:  # root can plant a directory owned by someone else
+        planted.chmod(0o700)
+        os.chown(planted, 12345, -1)
+        assert catalog.index_path() is None
+
+
+@pytest.mark.parametrize("damage", ["empty", "truncated", "garbage", "old-version"])
+def test_damaged_index_is_rebuilt(tmp_path: Path, damage: str) -> None:
+    import sqlite3
+
+    from mjstruct.synthesis import catalog
+
+    path = catalog.index_path()
+    assert path is not None
+    data = path.read_bytes()
+    if damage == "empty":
+        path.write_bytes(b"")
+    elif damage == "truncated":
+        path.write_bytes(data[: len(data) // 3])
+    elif damage == "garbage":
+        path.write_bytes(b"not a database" * 100)
+    else:
+        con = sqlite3.connect(path)
+        con.execute("UPDATE meta SET value = 1 WHERE key = 'version'")
+        con.commit()
+        con.close()
+    assert _watt_name() == "Watt six-bar"
+    assert catalog.index_path() == path and path.read_bytes() != b""
+    assert not list(path.parent.glob("*.tmp"))
+
+
+def test_index_that_is_a_link_is_replaced_not_followed(tmp_path: Path) -> None:
+    from mjstruct.synthesis import catalog
+
+    path = catalog.index_path()
+    assert path is not None
+    outside = tmp_path / "victim.txt"
+    outside.write_text("keep me")
+    path.unlink()
+    path.symlink_to(outside)
+    assert _watt_name() == "Watt six-bar"
+    assert outside.read_text() == "keep me"
+    assert path.is_file() and not path.is_symlink()
+
+
+def test_unwritable_cache_falls_back_and_interrupted_build_leaves_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import sqlite3
+
+    from mjstruct.synthesis import catalog
+
+    real_fill = catalog._fill
+    calls: list[int] = []
+
+    def read_only_first(con: sqlite3.Connection, rows: list[tuple[object, ...]]) -> None:
+        calls.append(1)
+        if len(calls) == 1:
+            raise sqlite3.OperationalError("attempt to write a readonly database")
+        real_fill(con, rows)
+
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    monkeypatch.setattr(catalog, "_fill", read_only_first)
+    assert _watt_name() == "Watt six-bar"
+    assert not list((tmp_path / "mjstruct").glob("*"))  # no temporary file left
+    assert len(list((tmp_path / "home" / ".cache" / "mjstruct").glob("*.sqlite"))) == 1
+
+    def interrupted(con: sqlite3.Connection, rows: list[tuple[object, ...]]) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "other"))
+    monkeypatch.setattr(catalog, "_fill", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        catalog.index_path()
+    assert not list((tmp_path / "other" / "mjstruct").glob("*"))
+
+
+def test_names_are_printed_without_terminal_escapes(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from mjstruct.synthesis import catalog
+
+    real = catalog.query
+
+    def tainted(sql: str, params: tuple[object, ...] = ()) -> list[dict[str, object]]:
+        rows = real(sql, params)
+        for r in rows:
+            r["name"] = "Watt\x1b]0;owned\x07\x1b[2J"
+        return rows
+
+    monkeypatch.setattr(catalog, "query", tainted)
+    assert main(["lookup", str(ROOT / "catalogs" / "examples" / "watt.json")]) == 0
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and "\x07" not in out and "Watt\\x1b]0;owned" in out

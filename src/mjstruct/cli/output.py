@@ -18,6 +18,7 @@ long numeric columns (kinematics) stay compact and reports stay readable.
 from __future__ import annotations
 
 import json
+import re
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -50,8 +51,22 @@ def emit_json(obj: Any) -> None:
     sys.stdout.write(dumps(obj) + "\n")
 
 
+_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+
+
+def printable(text: str) -> str:
+    r"""``text`` with control characters (terminal escapes) shown as ``\xNN``; newlines
+    and tabs kept.
+
+    >>> printable("Watt\x1b[31m six-bar\n")
+    'Watt\\x1b[31m six-bar\n'
+    """
+    return _CONTROL.sub(lambda c: f"\\x{ord(c.group()):02x}", text)
+
+
 def emit_text(text: str) -> None:
-    sys.stdout.write(text.rstrip("\n") + "\n")
+    """Text output: names from files and caches cannot drive the terminal."""
+    sys.stdout.write(printable(text.rstrip("\n")) + "\n")
 
 
 @contextmanager

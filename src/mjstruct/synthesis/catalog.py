@@ -8,8 +8,11 @@ the non-fractionated chains in that order (so the simple-joint chains come first
 keep their ids), ``F2n9-x0003`` for the fractionated ones.
 
 The sqlite index is not shipped: it is built on first use from the JSON Lines files
-into ``$XDG_CACHE_HOME/mjstruct`` (else ``~/.cache/mjstruct``, else a temporary
-directory), named by a hash of the catalog files, so an edited catalog gets a new index.
+into ``$XDG_CACHE_HOME/mjstruct`` (else ``~/.cache/mjstruct``, else a private
+``mjstruct-<uid>`` directory under the temporary directory; a directory that is a link,
+not this user's, or writable by others is skipped), named by a hash of the catalog
+files and the index version, so an edited catalog gets a new index.  A corrupt or
+truncated index is rebuilt atomically; with nowhere to write, it is built in memory.
 
 Examples
 --------
@@ -22,10 +25,12 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
 import sqlite3
+import stat
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -116,73 +121,156 @@ def read_catalog(F: int, n: int) -> list[dict[str, Any]]:
         return [json.loads(line) for line in fh if line.strip()]
 
 
+INDEX_VERSION = 2  # bump when the table layout changes: an older index is not reused
+
+
 def _catalog_hash(files: list[Path]) -> str:
-    h = hashlib.sha256()
+    h = hashlib.sha256(f"index v{INDEX_VERSION}".encode())
     for f in files:
         h.update(f.name.encode() + b"\0" + f.read_bytes())
     return h.hexdigest()[:16]
 
 
 def _cache_dirs() -> list[Path]:
+    """Where the index may live, in order: the documented cache variables, then a
+    private directory of this user under the system's temporary directory."""
     dirs = []
     if os.environ.get("XDG_CACHE_HOME"):
         dirs.append(Path(os.environ["XDG_CACHE_HOME"]) / "mjstruct")
-    dirs.append(Path.home() / ".cache" / "mjstruct")
-    dirs.append(
-        Path(tempfile.gettempdir()) / f"mjstruct-{os.getuid() if hasattr(os, 'getuid') else 0}"
-    )
+    with contextlib.suppress(RuntimeError):  # no home directory can be determined
+        dirs.append(Path.home() / ".cache" / "mjstruct")
+    dirs.append(Path(tempfile.gettempdir()) / f"mjstruct-{_uid()}")
     return dirs
 
 
-def index_path() -> Path:
-    """Path of the sqlite index, building it first if needed."""
+def _uid() -> int:
+    return os.getuid() if hasattr(os, "getuid") else 0
+
+
+def _private_dir(d: Path) -> bool:
+    """Create ``d`` (mode 0700) or accept it only when it is a real directory of ours
+    that nobody else can write (a planted directory or a link is refused)."""
+    try:
+        d.mkdir(mode=0o700, parents=True, exist_ok=True)
+        st = os.lstat(d)
+    except OSError:
+        return False
+    if not stat.S_ISDIR(st.st_mode):
+        return False  # a symbolic link or a file where the directory should be
+    foreign = st.st_uid != _uid() or st.st_mode & 0o022
+    return not (hasattr(os, "getuid") and foreign)
+
+
+def _valid_index(path: Path, expected: int) -> bool:
+    """A regular file (not a link) holding a complete index of ``expected`` chains."""
+    try:
+        st = os.lstat(path)
+    except OSError:
+        return False
+    if not stat.S_ISREG(st.st_mode) or st.st_size == 0:
+        return False
+    try:
+        con = sqlite3.connect(_read_only_uri(path), uri=True)
+        try:
+            (version,) = con.execute("SELECT value FROM meta WHERE key = 'version'").fetchone()
+            (rows,) = con.execute("SELECT count(*) FROM chains").fetchone()
+        finally:
+            con.close()
+    except (sqlite3.Error, TypeError):  # corrupt, truncated, foreign: rebuild
+        return False
+    return bool(version == INDEX_VERSION and rows == expected)
+
+
+def _read_only_uri(path: Path) -> str:
+    # as_uri percent-encodes '?', '#' and '%': a cache path cannot inject URI parameters
+    return path.resolve().as_uri() + "?mode=ro"
+
+
+def _catalog_rows(files: list[Path]) -> list[tuple[Any, ...]]:
+    rows = []
+    for f in files:
+        with f.open(encoding="utf-8") as fh:
+            for line in fh:
+                if not line.strip():
+                    continue
+                r = json.loads(line)
+                rows.append(
+                    tuple(
+                        json.dumps(r[k]) if k in ("LA", "MJA", "joints") else r[k]
+                        for k in _COLUMNS
+                    )
+                )
+    return rows
+
+
+def index_path() -> Path | None:
+    """Path of the sqlite index, building it first if needed (None: no place to write).
+
+    A missing, corrupt, truncated or outdated index is rebuilt in a private temporary
+    file of the same directory and moved into place atomically; a directory that
+    cannot be written, or is not this user's own, is skipped for the next one.
+    """
     files = sorted(atlas_dir().glob("*.jsonl"))
     name = f"catalog-{_catalog_hash(files)}.sqlite"
-    last_error: Exception | None = None
+    rows: list[tuple[Any, ...]] | None = None
     for d in _cache_dirs():
+        if not _private_dir(d):
+            continue
         path = d / name
-        if path.is_file():
+        if rows is None:
+            rows = _catalog_rows(files)
+        if _valid_index(path, len(rows)):
             return path
         try:
-            d.mkdir(parents=True, exist_ok=True)
-            _build_index(files, path)
+            _build_index(rows, path)
+        except (OSError, sqlite3.Error):  # read-only directory, full disk: next place
+            continue
+        if _valid_index(path, len(rows)):
             return path
-        except OSError as exc:  # read-only home etc.: try the next place
-            last_error = exc
-    raise OSError(f"cannot write the catalog index anywhere: {last_error}")
+    return None
 
 
-def _build_index(files: list[Path], path: Path) -> None:
-    tmp = path.with_suffix(f".tmp{os.getpid()}")
-    con = sqlite3.connect(tmp)
+def _fill(con: sqlite3.Connection, rows: list[tuple[Any, ...]]) -> None:
+    con.execute(
+        "CREATE TABLE chains (canonical TEXT PRIMARY KEY, id TEXT UNIQUE, name TEXT, "
+        "F INT, n INT, K INT, V INT, cell TEXT, LA TEXT, MJA TEXT, code TEXT, "
+        "code_star TEXT, planar INT, fractionated INT, joints TEXT)"
+    )
+    con.executemany(f"INSERT INTO chains VALUES ({','.join('?' * len(_COLUMNS))})", rows)
+    con.execute("CREATE INDEX chains_code ON chains (F, n, code_star)")
+    con.execute("CREATE TABLE meta (key TEXT PRIMARY KEY, value)")
+    con.execute("INSERT INTO meta VALUES ('version', ?)", (INDEX_VERSION,))
+    con.commit()
+
+
+def _build_index(rows: list[tuple[Any, ...]], path: Path) -> None:
+    """Write the index to a new private file next to ``path``, then move it into place."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".catalog-", suffix=".tmp")
+    os.close(fd)  # mkstemp made it (O_EXCL, mode 0600): no link is followed
     try:
-        con.execute(
-            "CREATE TABLE chains (canonical TEXT PRIMARY KEY, id TEXT UNIQUE, name TEXT, "
-            "F INT, n INT, K INT, V INT, cell TEXT, LA TEXT, MJA TEXT, code TEXT, "
-            "code_star TEXT, planar INT, fractionated INT, joints TEXT)"
-        )
-        for f in files:
-            with f.open(encoding="utf-8") as fh:
-                rows = []
-                for line in fh:
-                    r = json.loads(line)
-                    rows.append(
-                        tuple(
-                            json.dumps(r[k]) if k in ("LA", "MJA", "joints") else r[k]
-                            for k in _COLUMNS
-                        )
-                    )
-            con.executemany(f"INSERT INTO chains VALUES ({','.join('?' * len(_COLUMNS))})", rows)
-        con.execute("CREATE INDEX chains_code ON chains (F, n, code_star)")
-        con.commit()
-    finally:
-        con.close()
-    os.replace(tmp, path)  # atomic: concurrent first uses do not see a half-built index
+        con = sqlite3.connect(tmp)
+        try:
+            _fill(con, rows)
+        finally:
+            con.close()
+        os.replace(tmp, path)  # atomic: concurrent first uses never see a half-built index
+    except BaseException:  # interrupted or failed: leave no temporary file behind
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
 
 
 def query(sql: str, params: tuple[Any, ...] = ()) -> list[dict[str, Any]]:
-    """Run a read-only query on the index; rows as dicts (LA, MJA, joints decoded)."""
-    con = sqlite3.connect(f"file:{index_path()}?mode=ro", uri=True)
+    """Run a read-only query on the index; rows as dicts (LA, MJA, joints decoded).
+
+    With no writable cache anywhere the index is built in memory for this query.
+    """
+    path = index_path()
+    if path is None:
+        con = sqlite3.connect(":memory:")
+        _fill(con, _catalog_rows(sorted(atlas_dir().glob("*.jsonl"))))
+    else:
+        con = sqlite3.connect(_read_only_uri(path), uri=True)
     con.row_factory = sqlite3.Row
     try:
         rows = [dict(r) for r in con.execute(sql, params)]
