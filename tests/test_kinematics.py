@@ -453,7 +453,7 @@ def test_inverted_slider_crank_rpr_dyad():
 
 
 def test_closure_jump_detector():
-    from mjstruct.kinematics.closure import _jumps
+    from mjstruct.kinematics.closure import branch_jumps as _jumps
 
     q = np.linspace(0.1, 1.0, 10)[:, None]
     t1 = np.full((10, 1), 0.5)

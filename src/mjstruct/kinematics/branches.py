@@ -1,6 +1,7 @@
 """Branches of the position functions: assembly modes, branch points, feasibility.
 
-Owns the continuity rules of seed 000 and seed 003's assembly coefficient K = ±1.
+Owns the continuity rules of the position functions and the assembly coefficient
+K = ±1 of each dyad.
 Each dyad step starts in the mode that reproduces the reference configuration.  Along
 the frames a step's Jacobian (the sine at its solved joint) is watched:
 
@@ -19,12 +20,10 @@ Examples
 >>> import numpy as np
 >>> from mjstruct.io import read_mechanism
 >>> from mjstruct.catalog_files import example_path
->>> from mjstruct.kinematics.geometry import read_geometry
->>> from mjstruct.kinematics.planner import plan_kinematics
->>> m = read_mechanism(example_path("four-bar"))
->>> g = read_geometry(m); p = plan_kinematics(m, geometry=g)
+>>> from mjstruct.kinematics.model import KinematicModel
+>>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
 >>> q = np.linspace(0, 2 * np.pi, 37)[:-1, None]
->>> K, events = track_branches(p, g, m, q)
+>>> K, events = track_branches(model, q)
 >>> events                         # a Grashof crank-rocker has no branch point
 []
 """
@@ -32,18 +31,22 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from mjstruct.kinematics.evaluate import Evaluation, evaluate, reference_mode
-from mjstruct.kinematics.geometry import Geometry
-from mjstruct.kinematics.planner import Plan
-from mjstruct.mechanism import Mechanism
+from mjstruct.kinematics.steps.base import Modes
+from mjstruct.kinematics.tolerances import DISC_SLACK, MEET, WATCH
 
-#: a refined |sine| below this means the two branches meet
-MEET = 1e-6
-#: a frame's |sine| below this (and V-shaped against its neighbours) is examined
-WATCH = 0.2
+if TYPE_CHECKING:
+    from mjstruct.kinematics.model import KinematicModel
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+#: assembly mode per dyad step and frame
+FrameModes = dict[int, npt.NDArray[np.int8]]
 
 
 @dataclass(frozen=True)
@@ -64,6 +67,7 @@ class BranchEvent:
     action: str
 
     def message(self) -> str:
+        """The event in words (one line)."""
         what = {
             "change point": "branches meet",
             "near branch point": "closest approach of the two branches",
@@ -76,30 +80,34 @@ class BranchEvent:
         )
 
 
-def _sine(plan, geom, m, q, K, k, t=None):
-    ev = evaluate(plan, geom, m, q, order=0, K=K, upto=k + 1, t=t)
-    return _masked_sine(*ev.diag[k]), ev
+def _sine(
+    model: KinematicModel, q: FloatArray, K: Modes, k: int, t: FloatArray | None = None
+) -> FloatArray:
+    ev = evaluate(model, q, order=0, K=K, upto=k + 1, t=t)
+    return masked_sine(*ev.diag[k])
 
 
-def _masked_sine(disc: np.ndarray, det: np.ndarray) -> np.ndarray:
+def masked_sine(disc: FloatArray, det: FloatArray) -> FloatArray:
     """|sine| of a dyad step, nan where it does not assemble."""
     s = np.abs(det)
-    s[~np.isfinite(s) | (disc < -1e-12)] = np.nan
+    s[~np.isfinite(s) | (disc < -DISC_SLACK)] = np.nan
     return s
 
 
-def _modes_at(K: dict, i: int) -> dict:
-    return {k: (int(v[i]) if isinstance(v, np.ndarray) else v) for k, v in K.items()}
+def _modes_at(K: Modes, i: int) -> dict[int, int]:
+    return {k: (int(v[i]) if isinstance(v, np.ndarray) else int(v)) for k, v in K.items()}
 
 
-def _refine_min(plan, geom, m, q, K, k, i) -> tuple[float, float]:
+def _refine_min(
+    model: KinematicModel, q: FloatArray, K: Modes, k: int, i: int
+) -> tuple[float, float]:
     """Smallest |sine| of step k between frames i-1 and i+1 (zooming, vectorised)."""
     lo, hi = q[i - 1], q[i + 1]
     Ki = _modes_at(K, i)
     best_s, best_q = np.inf, float(q[i, 0])
     for _ in range(5):
         qs = lo + (hi - lo) * np.linspace(0.0, 1.0, 33)[:, None]
-        s, _ = _sine(plan, geom, m, qs, Ki, k)
+        s = _sine(model, qs, Ki, k)
         if not np.isfinite(s).any():
             return 0.0, best_q
         j = int(np.nanargmin(s))
@@ -109,11 +117,11 @@ def _refine_min(plan, geom, m, q, K, k, i) -> tuple[float, float]:
     return best_s, best_q
 
 
-def _boundary(plan, geom, m, a: np.ndarray, b: np.ndarray, K: dict, k: int) -> float:
+def _boundary(model: KinematicModel, a: FloatArray, b: FloatArray, K: Modes, k: int) -> float:
     """q where step k stops assembling between a (feasible) and b (not), by bisection."""
     for _ in range(3):
         qs = a + (b - a) * np.linspace(0.0, 1.0, 65)[:, None]
-        s, _ = _sine(plan, geom, m, qs, K, k)
+        s = _sine(model, qs, K, k)
         ok = np.isfinite(s)
         j = int(np.argmin(ok)) if not ok.all() else 64
         a, b = qs[max(j - 1, 0)], qs[min(j, 64)]
@@ -121,33 +129,32 @@ def _boundary(plan, geom, m, a: np.ndarray, b: np.ndarray, K: dict, k: int) -> f
 
 
 def track_branches(
-    plan: Plan,
-    geom: Geometry,
-    m: Mechanism,
-    q: np.ndarray,
-    t: np.ndarray | None = None,
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray | None = None,
     first: Evaluation | None = None,
-) -> tuple[dict[int, np.ndarray], list[BranchEvent]]:
+) -> tuple[FrameModes, list[BranchEvent]]:
     """Assembly mode per dyad step and frame, and the branch points met.
 
     With closure unknowns ``t`` (class III/IV plans) the modes are kept and events are
     only reported (the closure fixes the branch by continuation).  ``first``: an
     evaluation with the reference modes on the same frames, reused until a mode flips.
     """
+    plan = model.plan
     F = q.shape[0]
-    K: dict[int, np.ndarray] = {}
+    K: FrameModes = {}
     events: list[BranchEvent] = []
     switchable = plan.unknowns == 0
     flipped = False
     for k, s in enumerate(plan.steps):
-        if s.kind not in ("RRR", "RRP", "RPR"):
+        if not s.step_kind.has_modes:
             continue
-        base_mode = reference_mode(plan, geom, k)
+        base_mode = reference_mode(plan, model.geometry, k)
         K[k] = np.full(F, base_mode, dtype=np.int8)
         if first is not None and not flipped:
-            sine = _masked_sine(*first.diag[k])
+            sine = masked_sine(*first.diag[k])
         else:
-            sine, _ = _sine(plan, geom, m, q, K, k, t)
+            sine = _sine(model, q, K, k, t)
         ok = np.isfinite(sine)
         i = 1
         while True:
@@ -159,7 +166,7 @@ def track_branches(
                 smin, qstar, kind = 0.0, float(q[cand, 0]), "singular frame"
             else:
                 if switchable:
-                    smin, qstar = _refine_min(plan, geom, m, q, K, k, cand)
+                    smin, qstar = _refine_min(model, q, K, k, cand)
                 else:
                     smin, qstar = float(sine[cand]), float(q[cand, 0])
                 kind = "change point" if smin < MEET else "near branch point"
@@ -169,11 +176,11 @@ def track_branches(
             if not singular and (q[cand, 0] - qstar) * (q[after, 0] - q[cand, 0]) > 0:
                 start = cand
             legal = kind != "near branch point" and switchable and start >= 3 and start < F
-            if legal and _smoother_flipped(plan, geom, m, q, K, k, s.joint, start):
+            if legal and _smoother_flipped(model, q, K, k, s.joint, start):
                 K[k][start:] *= -1
                 action = "switched"
                 flipped = True
-                sine, _ = _sine(plan, geom, m, q, K, k, t)
+                sine = _sine(model, q, K, k, t)
                 ok = np.isfinite(sine)
             events.append(BranchEvent(qstar, cand, k, s.joint, kind, smin, action))
             i = after + 1
@@ -183,17 +190,13 @@ def track_branches(
             if _near_event(events, k, e):
                 continue
             a, b = (e, e + 1) if ok[e] else (e + 1, e)
-            qb = (
-                _boundary(plan, geom, m, q[a], q[b], _modes_at(K, a), k)
-                if switchable
-                else float(q[a, 0])
-            )
+            qb = _boundary(model, q[a], q[b], _modes_at(K, a), k) if switchable else float(q[a, 0])
             events.append(BranchEvent(qb, int(a), k, s.joint, "dead point", 0.0, "kept"))
     events.sort(key=lambda e: (e.frame, e.step))
     return K, events
 
 
-def _next_candidate(sine: np.ndarray, ok: np.ndarray, start: int) -> tuple[int, int, bool] | None:
+def _next_candidate(sine: FloatArray, ok: BoolArray, start: int) -> tuple[int, int, bool] | None:
     """First frame >= start where a step's |sine| dips (or a short undefined run sits).
 
     Returns (frame, first frame after it, singular); found with array operations.
@@ -229,16 +232,18 @@ def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:
     )
 
 
-def _smoother_flipped(plan, geom, m, q, K, k, joint, start) -> bool:
+def _smoother_flipped(
+    model: KinematicModel, q: FloatArray, K: FrameModes, k: int, joint: str, start: int
+) -> bool:
     """True when flipping step k's mode from frame ``start`` continues the motion smoothly."""
     idx = np.array([start - 3, start - 2, start - 1, start])
     sub = q[idx]
     same = {kk: v[idx] for kk, v in K.items()}
     flip = {kk: v[idx].copy() for kk, v in K.items()}
     flip[k][-1] *= -1
-    pts = []
+    pts: list[npt.NDArray[Any]] = []
     for modes in (same, flip):
-        ev = evaluate(plan, geom, m, sub, order=0, K=modes, upto=k + 1)
+        ev = evaluate(model, sub, order=0, K=modes, upto=k + 1)
         pts.append(ev.centre(joint)[0])
     x = idx.astype(float)
     known = pts[0][:3]

@@ -1,12 +1,12 @@
 """Closure of groups no triangle sequence solves: Newton on the fewest unknowns.
 
-Owns the iteration of seed 003: assume the angle of one link (the planner picks the
-fewest such unknowns), solve the class-II steps that follow, and drive the closure
-equations (a computed length against the given one) to zero.  Newton runs on all
-frames at once with per-frame convergence masks; its Jacobian is analytic (the same
-jet propagation as the analogs, seeded on the unknowns).  Initial values come from
-continuation along the frames starting at the reference configuration (where every
-unknown is 0, the rotation from the reference).
+Owns the iteration for groups of class III and higher: assume the angle of one link
+(the planner picks the fewest such unknowns), solve the class-II steps that follow,
+and drive the closure equations (a computed length against the given one) to zero.
+Newton runs on all frames at once with per-frame convergence masks; its Jacobian is
+analytic (the same jet propagation as the analogs, seeded on the unknowns). Initial
+values come from continuation along the frames starting at the reference configuration
+(where every unknown is 0, the rotation from the reference).
 
 Afterwards the unknowns' derivatives follow from the differentiated closure
 equations, ``R_t t' = -R_q`` and ``R_t t'' = -R''``, so σ and κ stay exact.
@@ -16,33 +16,31 @@ Examples
 >>> import numpy as np
 >>> from mjstruct.io import read_mechanism
 >>> from mjstruct.catalog_files import example_path
->>> from mjstruct.kinematics.geometry import read_geometry
->>> from mjstruct.kinematics.planner import plan_kinematics
->>> m = read_mechanism(example_path("class-iv-seed003"))
->>> g = read_geometry(m); p = plan_kinematics(m, geometry=g)
->>> q = g.driver_ref["O"] + np.linspace(0, 2 * np.pi, 73)[:-1, None]
->>> sol = close(p, g, m, q)
+>>> from mjstruct.kinematics.model import KinematicModel
+>>> model = KinematicModel.build(read_mechanism(example_path("class-iv-seed003")))
+>>> q = model.q_ref + np.linspace(0, 2 * np.pi, 73)[:-1, None]
+>>> sol = close(model, q)
 >>> bool(sol.converged.all()), bool(sol.error.max() < 1e-12)
 (True, True)
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from mjstruct.kinematics.evaluate import evaluate
-from mjstruct.kinematics.geometry import Geometry
-from mjstruct.kinematics.planner import Plan
-from mjstruct.mechanism import Mechanism
+from mjstruct.kinematics.steps.base import Modes
+from mjstruct.kinematics.tolerances import NEWTON_TOL, STATION_STEP, STATION_TOL
 
-#: assembly mode per dyad step (±1, scalar or per frame), as :func:`evaluate` takes it
-Modes = Mapping[int, np.ndarray | int] | None
+if TYPE_CHECKING:
+    from mjstruct.kinematics.model import KinematicModel
 
-#: largest continuation step along the path (radians of the driver, or scale units)
-STATION_STEP = 0.25
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
 
 
 @dataclass(frozen=True)
@@ -57,17 +55,19 @@ class Closure:
     derivative — a possible jump to another branch of the closure.
     """
 
-    t: np.ndarray
-    t1: np.ndarray
-    t2: np.ndarray
-    error: np.ndarray
+    t: FloatArray
+    t1: FloatArray
+    t2: FloatArray
+    error: FloatArray
     iterations: int
-    converged: np.ndarray
+    converged: BoolArray
     tol: float
     jumps: tuple[int, ...] = ()
 
 
-def _jacobian(plan: Plan, geom: Geometry, m: Mechanism, q: np.ndarray, t: np.ndarray, K):
+def _jacobian(
+    model: KinematicModel, q: FloatArray, t: FloatArray, K: Modes | None
+) -> tuple[FloatArray, FloatArray]:
     """Residuals R (F, e) and the analytic Jacobian dR/dt (F, e, k)."""
     F, k = t.shape
     cols = []
@@ -76,7 +76,7 @@ def _jacobian(plan: Plan, geom: Geometry, m: Mechanism, q: np.ndarray, t: np.nda
     for j in range(k):
         seed = np.zeros((F, k))
         seed[:, j] = 1.0
-        ev = evaluate(plan, geom, m, q, order=1, rates=zero, t=t, t1=seed, K=K)
+        ev = evaluate(model, q, order=1, rates=zero, t=t, t1=seed, K=K)
         if R is None:
             R = ev.residual_matrix(0)
         cols.append(ev.residual_matrix(1))
@@ -84,7 +84,7 @@ def _jacobian(plan: Plan, geom: Geometry, m: Mechanism, q: np.ndarray, t: np.nda
     return R, np.stack(cols, axis=-1)
 
 
-def _solve(J: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _solve(J: FloatArray, b: FloatArray) -> FloatArray:
     """Solve the stacked systems J x = b (least squares when not square)."""
     if J.shape[-1] == 1 and J.shape[-2] == 1:
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -98,26 +98,24 @@ def _solve(J: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def newton(
-    plan: Plan,
-    geom: Geometry,
-    m: Mechanism,
-    q: np.ndarray,
-    t0: np.ndarray,
-    K: Modes = None,
-    tol: float = 1e-13,
+    model: KinematicModel,
+    q: FloatArray,
+    t0: FloatArray,
+    K: Modes | None = None,
+    tol: float = NEWTON_TOL,
     maxiter: int = 30,
-) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
+) -> tuple[FloatArray, FloatArray, int, BoolArray]:
     """Vectorised Newton with per-frame masks; returns t, error, iterations, converged."""
     t = t0.copy()
     F = t.shape[0]
     err = np.full(F, np.inf)
     active = np.ones(F, bool)
-    scale = geom.scale
+    scale = model.geometry.scale
     it = 0
     for it in range(1, maxiter + 1):  # noqa: B007 - the count is reported
         idx = np.flatnonzero(active)
         Ki = _subset_modes(K, idx)
-        R, J = _jacobian(plan, geom, m, q[idx], t[idx], Ki)
+        R, J = _jacobian(model, q[idx], t[idx], Ki)
         e = np.abs(R).max(axis=1) / scale
         err[idx] = e
         done = e <= tol
@@ -133,7 +131,7 @@ def newton(
         alpha = np.ones(idx.size)
         for _ in range(8):
             trial = t[idx] + alpha[:, None] * step
-            ev = evaluate(plan, geom, m, q[idx], order=0, t=trial, K=_subset_modes(K, idx))
+            ev = evaluate(model, q[idx], order=0, t=trial, K=_subset_modes(K, idx))
             Rn = ev.residual_matrix(0)
             bad = ~np.isfinite(Rn).all(axis=1) | (
                 np.abs(Rn).max(axis=1) > 2.0 * np.abs(R).max(axis=1) + 1e-300
@@ -145,20 +143,18 @@ def newton(
     return t, err, it, err <= tol
 
 
-def _subset_modes(K, idx: np.ndarray):
+def _subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:
     if K is None:
         return None
     return {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in K.items()}
 
 
 def close(
-    plan: Plan,
-    geom: Geometry,
-    m: Mechanism,
-    q: np.ndarray,
-    rates: np.ndarray | None = None,
-    K: Modes = None,
-    tol: float = 1e-13,
+    model: KinematicModel,
+    q: FloatArray,
+    rates: npt.ArrayLike | None = None,
+    K: Modes | None = None,
+    tol: float = NEWTON_TOL,
     maxiter: int = 30,
 ) -> Closure:
     """Solve the closure unknowns on frames ``q`` (frames × drivers), then their derivatives.
@@ -167,22 +163,22 @@ def close(
     to frame 0, then along the frames (stations at most :data:`STATION_STEP` apart,
     cubic Hermite prediction in between), and one vectorised Newton polishes all frames.
     """
-    F, k = q.shape[0], plan.unknowns
-    q_ref = np.array([geom.driver_ref[d] for d in plan.drivers])
+    F, k = q.shape[0], model.plan.unknowns
+    q_ref = model.q_ref
     rate = np.ones(q.shape[1]) if rates is None else np.asarray(rates, float)
     # 1. continuation along the path reference -> frame 0 -> ... -> last frame, by arc
     # length in q, with stations not tied to the frames; the step halves until each
     # station agrees with the trapezoid of the tangent (no hop to another root)
-    tight = min(tol, 1e-10)  # stations are few: always close them tightly
+    tight = min(tol, STATION_TOL)  # stations are few: always close them tightly
     path = np.vstack([q_ref[None, :], q])
     seg = np.abs(np.diff(path, axis=0)).max(axis=1)
     arc = np.concatenate([[0.0], np.cumsum(seg)])
     moving = np.flatnonzero(seg > 0)
 
-    def q_at(sv: float) -> np.ndarray:
+    def q_at(sv: float) -> FloatArray:
         return np.array([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])])
 
-    def direction(sv: float) -> np.ndarray:
+    def direction(sv: float) -> FloatArray:
         if moving.size == 0:
             return np.zeros(path.shape[1])
         pos = int(np.searchsorted(arc[moving + 1], sv, side="left"))
@@ -195,7 +191,7 @@ def close(
 
     T_last = np.zeros(k)
     K0 = _subset_modes(K, np.array([0]))
-    D0 = _tangent(plan, geom, m, q_ref[None, :], T_last[None, :], K0, direction(0.0))[0]
+    D0 = _tangent(model, q_ref[None, :], T_last[None, :], K0, direction(0.0))[0]
     S, TT, DD = [0.0], [T_last], [np.where(np.isfinite(D0), D0, 0.0)]
     s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
     lost = False  # True while the stations do not close (outside the feasible range)
@@ -207,10 +203,10 @@ def close(
         qn = q_at(s_new)[None, :]
         ds = s_new - s_last
         guess = (T_last + DD[-1] * ds)[None, :]
-        tn, _, _, okn = newton(plan, geom, m, qn, guess, Ks, tight, maxiter)
+        tn, _, _, okn = newton(model, qn, guess, Ks, tight, maxiter)
         Dn = None
         if okn[0]:
-            Dn = _tangent(plan, geom, m, qn, tn, Ks, direction(s_new))[0]
+            Dn = _tangent(model, qn, tn, Ks, direction(s_new))[0]
             pred = 0.5 * (DD[-1] + Dn) * ds
             fine = np.abs(tn[0] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
         else:
@@ -233,19 +229,38 @@ def close(
             step *= 0.5
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
     guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc[1:])
-    t, err, iters, ok = newton(plan, geom, m, q, guess, K, tol, maxiter)
+    t, err, iters, ok = newton(model, q, guess, K, tol, maxiter)
     if not ok.all() and ok.any():
-        _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter)
-    t1, t2 = derivatives(plan, geom, m, q, t, rate, K)
-    d0 = _tangent(
-        plan, geom, m, q_ref[None, :], np.zeros((1, k)), _subset_modes(K, np.array([0])), rate
-    )[0]
-    jumps = _jumps(q, q_ref, t, t1, d0, ok, rate)
+        _repair(model, q, t, err, ok, K, tol, maxiter)
+    t1, t2 = derivatives(model, q, t, rate, K)
+    d0 = _tangent(model, q_ref[None, :], np.zeros((1, k)), _subset_modes(K, np.array([0])), rate)[
+        0
+    ]
+    jumps = branch_jumps(q, q_ref, t, t1, d0, ok, rate)
     return Closure(t, t1, t2, err, iters, ok, tol, jumps)
 
 
-def _jumps(q, q_ref, t, t1, d0, ok, rate) -> tuple[int, ...]:
-    """Frames where Δt disagrees with the trapezoid of t' along the path (branch jumps)."""
+def branch_jumps(
+    q: FloatArray,
+    q_ref: FloatArray,
+    t: FloatArray,
+    t1: FloatArray,
+    d0: FloatArray,
+    ok: BoolArray,
+    rate: FloatArray,
+) -> tuple[int, ...]:
+    """Frames where Δt disagrees with the trapezoid of t' along the path (branch jumps).
+
+    ``q`` frames × drivers and ``t``, ``t1`` the unknowns and their derivatives on them;
+    the path starts at ``q_ref`` (unknowns 0, derivative ``d0``); ``ok`` the frames that
+    closed; ``rate`` dq/dτ.
+
+    >>> q = np.linspace(0.1, 1.0, 10)[:, None]
+    >>> t = 0.5 * q; t[6:] += 1.0                     # another branch from frame 6 on
+    >>> ones = np.ones(1)
+    >>> branch_jumps(q, 0 * ones, t, np.full((10, 1), 0.5), 0.5 * ones, q[:, 0] > 0, ones)
+    (6,)
+    """
     qs = np.vstack([q_ref[None, :], q])
     ts = np.vstack([np.zeros((1, t.shape[1])), t])
     ds = np.vstack([d0[None, :], t1])
@@ -260,7 +275,16 @@ def _jumps(q, q_ref, t, t1, d0, ok, rate) -> tuple[int, ...]:
     return tuple(int(i) for i in np.flatnonzero(bad))
 
 
-def _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter) -> None:
+def _repair(
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    err: FloatArray,
+    ok: BoolArray,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+) -> None:
     """Frames the vectorised pass missed: walk to each from a closed neighbour.
 
     Sequential, but only over the failed frames (near singular stretches where the
@@ -278,9 +302,7 @@ def _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter) -> None:
                 for s in range(1, n + 1):
                     qs = q[j] + (q[i] - q[j]) * (s / n)
                     Ks = _subset_modes(K, np.array([i]))
-                    tn, en, _, okn = newton(
-                        plan, geom, m, qs[None, :], cur[None, :], Ks, tol, maxiter
-                    )
+                    tn, en, _, okn = newton(model, qs[None, :], cur[None, :], Ks, tol, maxiter)
                     if not okn[0]:
                         good = False
                         break
@@ -290,32 +312,36 @@ def _repair(plan, geom, m, q, t, err, ok, K, tol, maxiter) -> None:
                     break
 
 
-def _tangent(plan, geom, m, q, t, K, rate) -> np.ndarray:
+def _tangent(
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    K: Modes | None,
+    rate: FloatArray,
+) -> FloatArray:
     """dt/dτ for dq/dτ = rate, from the differentiated closure equations."""
-    _, J = _jacobian(plan, geom, m, q, t, K)
-    ev = evaluate(plan, geom, m, q, order=1, rates=rate, t=t, K=K)
+    _, J = _jacobian(model, q, t, K)
+    ev = evaluate(model, q, order=1, rates=rate, t=t, K=K)
     return -_solve(J, ev.residual_matrix(1))
 
 
 def derivatives(
-    plan: Plan,
-    geom: Geometry,
-    m: Mechanism,
-    q: np.ndarray,
-    t: np.ndarray,
-    rate: np.ndarray,
-    K: Modes = None,
-) -> tuple[np.ndarray, np.ndarray]:
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    rate: FloatArray,
+    K: Modes | None = None,
+) -> tuple[FloatArray, FloatArray]:
     """t' and t'' along the path: ``R_t t' = -R_q q'`` then ``R_t t'' = -R''|_{t''=0}``."""
-    _, J = _jacobian(plan, geom, m, q, t, K)
-    ev = evaluate(plan, geom, m, q, order=1, rates=rate, t=t, K=K)
+    _, J = _jacobian(model, q, t, K)
+    ev = evaluate(model, q, order=1, rates=rate, t=t, K=K)
     t1 = -_solve(J, ev.residual_matrix(1))
-    ev = evaluate(plan, geom, m, q, order=2, rates=rate, t=t, t1=t1, K=K)
+    ev = evaluate(model, q, order=2, rates=rate, t=t, t1=t1, K=K)
     t2 = -_solve(J, ev.residual_matrix(2))
     return t1, t2
 
 
-def _hermite(x: np.ndarray, y: np.ndarray, dy: np.ndarray, xi: np.ndarray) -> np.ndarray:
+def _hermite(x: FloatArray, y: FloatArray, dy: FloatArray, xi: FloatArray) -> FloatArray:
     """Cubic Hermite interpolation of columns of y (slopes dy) at xi."""
     if x.size == 1:
         return np.repeat(y, xi.size, axis=0) + (xi - x[0])[:, None] * dy

@@ -1,6 +1,6 @@
 """Constraint Jacobian of a planar mechanism: rank (mobility refinement) and determinant.
 
-Owns seed 000's check beyond the counting formulas: the joint constraint equations in
+Owns the check beyond the counting formulas: the joint constraint equations in
 link coordinates (x, y, φ of every moving link), their rectangular Jacobian J
 (Nu × 3Ns), its rank (``rank J = Nu``: independent constraints and Chebyshev's count
 is exact; less: redundant constraints), and the determinant of the square matrix
@@ -24,30 +24,42 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.tolerances import NEAR_SINGULAR, RANK_RTOL
 from mjstruct.kinematics.triangles import Pose
 from mjstruct.mechanism import Mechanism
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int_]
 
 
 @dataclass(frozen=True)
 class JacobianCheck:
     """J over the frames (F × Nu × 3Ns), its rank per frame, and the driver-fixed det."""
 
-    J: np.ndarray
-    rank: np.ndarray
-    det: np.ndarray
+    J: FloatArray
+    rank: IntArray
+    det: FloatArray
     equations: int
     coordinates: int
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """(frames, equations, coordinates)."""
         return tuple(self.J.shape)
+
+
+def reference_poses(m: Mechanism) -> dict[str, Pose]:
+    """Every link at its reference pose (one frame, no rotation)."""
+    z = np.zeros(1, complex)
+    return {x: Pose(0j, [z], np.ones(1, complex), []) for x in m.links}
 
 
 def constraint_jacobian(
     m: Mechanism, geom: Geometry, poses: dict[str, Pose], drivers: tuple[str, ...] = ()
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[FloatArray, FloatArray]:
     """J (frames × Nu × 3Ns) of the joint constraints, and the driver rows (frames × N × 3Ns).
 
     Columns are (x, y, φ) of each moving link in ``m.links`` order; ``poses`` give the
@@ -56,12 +68,14 @@ def constraint_jacobian(
     moving = [x for x in m.links if x != m.frame]
     col = {link: 3 * i for i, link in enumerate(moving)}
     F = next(iter(poses.values())).r.shape[0]
-    rows: list[np.ndarray] = []
+    rows: list[FloatArray] = []
 
-    def zero() -> np.ndarray:
+    def zero() -> FloatArray:
         return np.zeros((F, 3 * len(moving)))
 
-    def add_point(row_x: np.ndarray, row_y: np.ndarray, link: str, z: complex, sign: float):
+    def add_point(
+        row_x: FloatArray, row_y: FloatArray, link: str, z: complex, sign: float
+    ) -> None:
         if link not in col:
             return
         c = col[link]
@@ -106,7 +120,15 @@ def constraint_jacobian(
     return J, D
 
 
-def _slide_row(poses, col, a: str, b: str, z: complex, v: complex, row: np.ndarray) -> np.ndarray:
+def _slide_row(
+    poses: dict[str, Pose],
+    col: dict[str, int],
+    a: str,
+    b: str,
+    z: complex,
+    v: complex,
+    row: FloatArray,
+) -> FloatArray:
     """Gradient of Re(conj(v_a)(X_b - X_a)): v_a the direction v carried by link a."""
     va = poses[a].r * v
     xb = poses[b].point(z)[0]
@@ -151,17 +173,14 @@ def check_jacobian(
         top = np.nanmax(a) if np.isfinite(a).any() else np.nan
         look = np.zeros(F, bool)
         look[np.linspace(0, F - 1, min(F, sample)).astype(int)] = True
-        look |= ~(a >= 1e-3 * top)  # small or undefined determinant
+        look |= ~(a >= NEAR_SINGULAR * top)  # small or undefined determinant
         look &= finite
         sv = np.linalg.svd(J[look], compute_uv=False)
-        tol = sv.max(axis=1, keepdims=True) * max(nu, nc) * 1e-10
+        tol = sv.max(axis=1, keepdims=True) * max(nu, nc) * RANK_RTOL
         rank[look] = (sv > tol).sum(axis=1)
     return JacobianCheck(J, rank, det, nu, nc)
 
 
 def jacobian_at_reference(m: Mechanism) -> JacobianCheck:
     """The Jacobian check at the file's reference configuration (all rotations zero)."""
-    geom = read_geometry(m)
-    z = np.zeros(1, complex)
-    poses = {x: Pose(0j, [z], np.ones(1, complex), []) for x in m.links}
-    return check_jacobian(m, geom, poses, tuple(m.drivers))
+    return check_jacobian(m, read_geometry(m), reference_poses(m), tuple(m.drivers))

@@ -36,14 +36,15 @@ from mjstruct.kinematics.closure import Closure, close
 from mjstruct.kinematics.evaluate import Evaluation, evaluate
 from mjstruct.kinematics.geometry import Geometry, read_geometry
 from mjstruct.kinematics.planner import Plan, plan_kinematics
+from mjstruct.kinematics.tolerances import CLOSURE_TOL, REDUNDANT_HOLDS
 from mjstruct.kinematics.triangles import Jet
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.assur import Decomposition
+
+__all__ = ["CLOSURE_TOL", "KinematicModel", "Motion"]
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
-
-#: default closure tolerance, relative to the mechanism's size
-CLOSURE_TOL = 1e-12
 
 
 @dataclass(frozen=True)
@@ -68,7 +69,7 @@ class KinematicModel:
         cls,
         mechanism: Mechanism,
         drivers: Iterable[str] | None = None,
-        decomposition: object | None = None,
+        decomposition: Decomposition | None = None,
     ) -> KinematicModel:
         """Read the geometry and plan the analysis for ``drivers`` (default: the file's).
 
@@ -154,12 +155,12 @@ class KinematicModel:
         """
         qa = self.driver_values(q)
         rate = np.ones(len(self.drivers)) if rates is None else np.asarray(rates, float)
-        plan, geom, m = self.plan, self.geometry, self.mechanism
+        plan, geom = self.plan, self.geometry
         warnings: list[str] = []
         sol: Closure | None = None
         t = t1 = t2 = None
         if plan.unknowns:
-            sol = close(plan, geom, m, qa, rate, tol=tol)
+            sol = close(self, qa, rate, tol=tol)
             # frames that did not close carry no configuration (null, reported)
             t = np.where(sol.converged[:, None], sol.t, np.nan)
             t1, t2 = sol.t1, sol.t2
@@ -177,10 +178,10 @@ class KinematicModel:
                     f"(first q = {qa[np.argmax(bad), 0]:.9g}); their values are null"
                 )
         with np.errstate(all="ignore"):
-            ev = evaluate(plan, geom, m, qa, order=order, rates=rate, t=t, t1=t1, t2=t2)
-            K, events = track_branches(plan, geom, m, qa, t, first=ev)
+            ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2)
+            K, events = track_branches(self, qa, t, first=ev)
             if any(e.action == "switched" for e in events):
-                ev = evaluate(plan, geom, m, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K)
+                ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K)
         valid = np.ones(qa.shape[0], bool)
         for pose in ev.poses.values():
             for part in (pose.r, *pose.A, *pose.w):
@@ -188,7 +189,7 @@ class KinematicModel:
         if plan.unknowns == 0 and ev.residuals:
             # redundant constraints: they must hold along the motion, else it stops there
             worst = np.abs(ev.residual_matrix(0)).max(axis=1)
-            broken = ~(worst <= 1e-9 * geom.scale)
+            broken = ~(worst <= REDUNDANT_HOLDS * geom.scale)
             valid &= ~broken
             if broken.any():
                 warnings.append(

@@ -1,0 +1,195 @@
+"""The result of a kinematic analysis: tables over the frames, the JSON object, the table.
+
+Owns :class:`KinematicsResult` (positions, analogs σ = ds/dq and κ = dσ/dq,
+velocities ``v = σ q̇`` and accelerations ``a = κ q̇² + σ q̈`` at constant driver
+speed, the branch points, warnings and checks) and :func:`collect`, which builds its
+tables from a solved :class:`~mjstruct.kinematics.model.Motion`.
+
+Examples
+--------
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> from mjstruct.kinematics.model import KinematicModel
+>>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
+>>> r = collect(model.motion(model.sweep(frames=8)), speed=2.0)
+>>> names, data = r.table()
+>>> names[:3], data.shape
+(['q', 'O1.x', 'O1.y'], (8, 43))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.kinematics.branches import BranchEvent
+from mjstruct.kinematics.closure import Closure
+from mjstruct.kinematics.geometry import Geometry
+from mjstruct.kinematics.jacobian import JacobianCheck
+from mjstruct.kinematics.model import KinematicModel, Motion
+from mjstruct.kinematics.planner import Plan
+from mjstruct.kinematics.triangles import Jet
+from mjstruct.mechanism import Mechanism
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+@dataclass
+class KinematicsResult:
+    """Positions, analogs, velocities and accelerations over the frames, with the report.
+
+    ``q`` (frames × drivers); ``valid`` frames that assemble; ``joints`` / ``points``:
+    id -> {x, y, vx, vy, ax, ay, sx, sy, kx, ky} arrays (s: velocity analogs, k:
+    acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa}.
+    """
+
+    model: KinematicModel
+    q: FloatArray
+    speed: float
+    valid: BoolArray
+    joints: dict[str, dict[str, FloatArray]]
+    points: dict[str, dict[str, FloatArray]]
+    links: dict[str, dict[str, FloatArray]]
+    events: list[BranchEvent]
+    warnings: list[str]
+    checks: dict[str, Any]
+    closure: Closure | None = None
+    jacobian: JacobianCheck | None = field(default=None, repr=False)
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The mechanism analysed."""
+        return self.model.mechanism
+
+    @property
+    def plan(self) -> Plan:
+        """The plan the analysis ran."""
+        return self.model.plan
+
+    @property
+    def geometry(self) -> Geometry:
+        """The reference configuration."""
+        return self.model.geometry
+
+    def to_dict(self) -> dict[str, Any]:
+        """The contract's JSON object (nulls where a frame does not assemble)."""
+
+        def lst(a: FloatArray) -> list[float | None]:
+            return [
+                float(x) if ok and np.isfinite(x) else None
+                for x, ok in zip(a, self.valid, strict=True)
+            ]
+
+        keys_p = ("x", "y", "vx", "vy", "ax", "ay")
+        keys_l = ("angle", "omega", "eps")
+        q = self.q[:, 0] if self.q.shape[1] == 1 else self.q
+        q_out: list[Any] = [float(x) for x in q] if q.ndim == 1 else q.tolist()
+        return {
+            "name": self.mechanism.name,
+            "drivers": list(self.plan.drivers),
+            "speed": self.speed,
+            "q": q_out,
+            "joints": {j: {k: lst(v[k]) for k in keys_p} for j, v in self.joints.items()},
+            "links": {x: {k: lst(v[k]) for k in keys_l} for x, v in self.links.items()},
+            "points": {p: {k: lst(v[k]) for k in keys_p} for p, v in self.points.items()},
+            "warnings": list(self.warnings),
+            "plan": {
+                "reference": self.plan.reference,
+                "source": self.plan.source,
+                "steps": self.plan.describe(),
+                "complexity": self.plan.complexity(),
+            },
+            "branch_points": [
+                {
+                    "q": e.q,
+                    "frame": e.frame,
+                    "joint": e.joint,
+                    "kind": e.kind,
+                    "sine": e.sine,
+                    "mode": e.action,
+                }
+                for e in self.events
+            ],
+            "checks": self.checks,
+            "closure": None if self.closure is None else self._closure_dict(),
+        }
+
+    def _closure_dict(self) -> dict[str, Any]:
+        cl = self.closure
+        assert cl is not None
+        ok = cl.converged
+        return {
+            "unknowns": self.plan.unknowns,
+            "tolerance": cl.tol,
+            "iterations": cl.iterations,
+            "max_error": float(cl.error[ok].max()) if ok.any() else None,
+            "frames_closed": int(ok.sum()),
+        }
+
+    def table(self) -> tuple[list[str], FloatArray]:
+        """Columns (q, then x y vx vy ax ay per joint and point, angle ω ε per link)."""
+        names = [f"q{i + 1}" if self.q.shape[1] > 1 else "q" for i in range(self.q.shape[1])]
+        cols = [self.q[:, i] for i in range(self.q.shape[1])]
+        for kind in (self.joints, self.points):
+            for pid, v in kind.items():
+                for k in ("x", "y", "vx", "vy", "ax", "ay"):
+                    names.append(f"{pid}.{k}")
+                    cols.append(v[k])
+        for link, v in self.links.items():
+            for k in ("angle", "omega", "eps"):
+                names.append(f"{link}.{k}")
+                cols.append(v[k])
+        data = np.column_stack(cols)
+        data[~self.valid, self.q.shape[1] :] = np.nan
+        return names, data
+
+
+def collect(motion: Motion, speed: float) -> KinematicsResult:
+    """The result's tables from a solved motion: positions, analogs, velocities and
+    accelerations at constant driver speed ``speed`` (frames with a non-finite value
+    are not valid)."""
+    km, ev, q = motion.model, motion.evaluation, motion.q
+    m, geom = km.mechanism, km.geometry
+    W = float(speed)
+    joints: dict[str, dict[str, FloatArray]] = {}
+    valid = motion.valid.copy()
+
+    def pack(X: Jet) -> dict[str, FloatArray]:
+        nonlocal valid
+        valid &= np.isfinite(X[0]) & np.isfinite(X[1]) & np.isfinite(X[2])
+        return {
+            "x": X[0].real, "y": X[0].imag,
+            "vx": X[1].real * W, "vy": X[1].imag * W,
+            "ax": X[2].real * W * W, "ay": X[2].imag * W * W,
+            "sx": X[1].real, "sy": X[1].imag, "kx": X[2].real, "ky": X[2].imag,
+        }  # fmt: skip
+
+    for j in m.joints:
+        joints[j.id] = pack(ev.centre(j.id))
+    points = {pid: pack(ev.poses[link].point(z)) for pid, (link, z) in geom.points.items()}
+    links: dict[str, dict[str, FloatArray]] = {}
+    for link in m.links:
+        p = ev.poses[link]
+        if link == m.frame:
+            theta = np.zeros(q.shape[0])
+        else:
+            theta = np.angle(p.r)
+            ok = np.isfinite(theta)
+            if ok.any():
+                theta[ok] = np.unwrap(theta[ok])
+        ang = theta + geom.char_angle[link]
+        links[link] = {
+            "angle": ang,
+            "omega": p.w[0] * W,
+            "eps": p.w[1] * W * W,
+            "sigma": p.w[0],
+            "kappa": p.w[1],
+        }
+        valid &= np.isfinite(p.w[0]) & np.isfinite(p.w[1])
+    return KinematicsResult(
+        km, q, W, valid, joints, points, links, list(motion.events), [], {}, motion.closure
+    )

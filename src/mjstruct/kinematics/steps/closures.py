@@ -1,0 +1,91 @@
+"""Steps that close loops: place a link by two known centres, and the closure equations.
+
+Owns *place* (a link whose two centres are already known is placed by them) and the
+two closure kinds it and the planner's bookkeeping create: *close-distance* (the
+distance between those two centres must equal the link's side: one equation) and
+*close-point* (a centre reached along two links must coincide: two equations).  The
+closure residuals are what Newton drives to zero on the plan's unknowns; with no
+unknown they are redundant constraints checked along the motion.
+
+Examples
+--------
+>>> from mjstruct.kinematics.steps import STEP_KINDS
+>>> STEP_KINDS["close-point"].equations, STEP_KINDS["place"].equations
+(2, 0)
+"""
+
+from __future__ import annotations
+
+from mjstruct.kinematics.steps.base import (
+    PlanRule,
+    PlanState,
+    Run,
+    Step,
+    StepKind,
+    register,
+    register_rule,
+)
+from mjstruct.kinematics.triangles import Jet, Pose, distance_residual, rotation_between
+
+
+def _eval_place(s: Step, k: int, run: Run) -> None:
+    C = run.geometry.centres
+    P, Q = run.centre(s.inputs[0]), run.centre(s.inputs[1])
+    r, w = rotation_between(P, Q, C[s.inputs[0]], C[s.inputs[1]])
+    run.place(s.links[0], Pose(C[s.inputs[0]], P, r, w))
+
+
+def _eval_close_distance(s: Step, k: int, run: Run) -> None:
+    C = run.geometry.centres
+    P, Q = run.centre(s.inputs[0]), run.centre(s.inputs[1])
+    run.residuals.append(distance_residual(P, Q, abs(C[s.inputs[1]] - C[s.inputs[0]])))
+
+
+def _eval_close_point(s: Step, k: int, run: Run) -> None:
+    a, b = s.links
+    z = run.geometry.centres[s.joint]
+    Xa, Xb = run.poses[a].point(z), run.poses[b].point(z)
+    diff: Jet = [Xa[i] - Xb[i] for i in range(run.order + 1)]
+    run.residuals.append([d.real for d in diff])
+    run.residuals.append([d.imag for d in diff])
+
+
+register(
+    StepKind(
+        "place",
+        "link {links[0]} placed by its known centres {inputs[0]}, {inputs[1]}",
+        _eval_place,
+    )
+)
+register(
+    StepKind(
+        "close-distance",
+        "closure: |{inputs[0]}{inputs[1]}| on link {links[0]} must equal its length",
+        _eval_close_distance,
+        equations=1,
+    )
+)
+register(
+    StepKind(
+        "close-point",
+        "closure: centre {joint} from link {links[0]} must coincide with link {links[1]}'s",
+        _eval_close_point,
+        equations=2,
+    )
+)
+
+
+def _plan_place(st: PlanState, link: str) -> bool:
+    """A link with two known centres is placed by them (its side closes a loop)."""
+    if not st.free(link):
+        return False
+    known = st.known_on(link)
+    if len(known) < 2:
+        return False
+    step = st.add(Step("place", (link,), inputs=(known[0], known[1])))
+    st.add(Step("close-distance", (link,), inputs=(known[0], known[1])))
+    st.place(link, step, known[:2])
+    return True
+
+
+register_rule(PlanRule("place", "link", 20, _plan_place))

@@ -1,0 +1,116 @@
+"""Steps that start a plan or set a coordinate: reference, driver-R, driver-P, assume.
+
+Owns the kinds that place a link from a known coordinate rather than by a triangle:
+the *reference* link (fixed in the solving frame), a revolute or prismatic *driver*
+(the driven link turns or slides on an already placed one by q), and an *assumed*
+angle (a closure unknown t, iterated by :mod:`mjstruct.kinematics.closure`).  None of
+them has assembly modes or counts as a triangle.
+
+Examples
+--------
+>>> from mjstruct.kinematics.steps import STEP_KINDS
+>>> STEP_KINDS["driver-R"].triangle is None, STEP_KINDS["assume"].has_modes
+(True, False)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mjstruct.kinematics.steps.base import (
+    PlanRule,
+    PlanState,
+    Run,
+    Step,
+    StepKind,
+    register,
+    register_rule,
+)
+from mjstruct.kinematics.triangles import Jet, Pose
+
+
+def _reference(s: Step, k: int, run: Run) -> None:
+    zero_c = np.zeros(run.frames, complex)
+    w: Jet = [np.zeros(run.frames)] * run.order
+    run.place(s.links[0], Pose(0j, [zero_c] * (run.order + 1), np.ones(run.frames, complex), w))
+
+
+def _driver(s: Step, k: int, run: Run) -> None:
+    C = run.geometry.centres
+    joint = run.mechanism.joint(s.joint)
+    base, driven = run.poses[s.base], s.links[0]
+    sign = 1.0 if driven == joint.links[1] else -1.0
+    dq = sign * (run.q[:, s.index] - run.geometry.driver_ref[s.joint])
+    dq1 = sign * run.rates[s.index]
+    if s.kind == "driver-R":
+        r = base.r * np.exp(1j * dq)
+        w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
+        run.place(driven, Pose(C[s.joint], run.centre(s.joint), r, w))
+        return
+    A = base.point(C[s.joint])
+    u = base.vector(run.geometry.axes[s.joint])
+    X: Jet = [A[0] + dq * u[0]]
+    if run.order >= 1:
+        X.append(A[1] + dq1 * u[0] + dq * u[1])
+    if run.order >= 2:
+        X.append(A[2] + 2 * dq1 * u[1] + dq * u[2])
+    run.place(driven, Pose(C[s.joint], X, base.r, list(base.w)))
+
+
+def _assume(s: Step, k: int, run: Run) -> None:
+    i = s.index
+    w: Jet = [run.t1[:, i], run.t2[:, i]][: run.order]
+    C = run.geometry.centres
+    run.place(s.links[0], Pose(C[s.joint], run.centre(s.joint), np.exp(1j * run.t[:, i]), w))
+
+
+register(
+    StepKind(
+        "reference",
+        "link {links[0]} is the reference (fixed in the solving frame)",
+        _reference,
+    )
+)
+register(
+    StepKind(
+        "driver-R",
+        "joint {joint} turns link {links[0]} about {joint} on link {base} by q{n}",
+        _driver,
+    )
+)
+register(
+    StepKind("driver-P", "joint {joint} slides link {links[0]} along link {base} by q{n}", _driver)
+)
+register(
+    StepKind(
+        "assume",
+        "assume the angle t{n} of link {links[0]} about {joint} (closure unknown)",
+        _assume,
+    )
+)
+
+
+def _plan_drivers(st: PlanState, _: str) -> bool:
+    """Every driver whose base is placed turns or slides its driven link into place."""
+    progress = False
+    m = st.m
+    for i, d in enumerate(st.drivers):
+        j = m.joint(d)
+        a, b = j.links[0], j.links[1]
+        for base, driven in ((a, b), (b, a)):
+            if base in st.placed and st.free(driven):
+                kind = "driver-P" if j.kind == "P" else "driver-R"
+                step = st.add(Step(kind, (driven,), joint=d, base=base, index=i))
+                st.place(driven, step, (d,))
+                progress = True
+    return progress
+
+
+def assume_angle(st: PlanState, link: str, joint: str) -> None:
+    """Place ``link`` about its known centre ``joint`` by a new closure unknown."""
+    step = st.add(Step("assume", (link,), joint=joint, index=st.unknowns))
+    st.unknowns += 1
+    st.place(link, step, (joint,))
+
+
+register_rule(PlanRule("drivers", "drivers", 10, _plan_drivers))
