@@ -64,7 +64,110 @@ def test_mj_expands_into_simple_joints(examples):
 def test_toml_round_trip_of_every_example(examples):
     from mjstruct.io import mechanism_to_toml, parse_mechanism
 
+    def without_nulls(v):  # TOML has no null: such keys are left out
+        if isinstance(v, dict):
+            return {k: without_nulls(x) for k, x in v.items() if x is not None}
+        return [without_nulls(x) for x in v] if isinstance(v, list) else v
+
     for f in sorted(examples.glob("*.json")):
         m = read_mechanism(f)
         again = parse_mechanism(mechanism_to_toml(m), toml=True)
-        assert again == m and again.extra == m.extra
+        assert again == m and again.extra == without_nulls(dict(m.extra))
+
+
+# -- hostile input: what is read, how much, and what it may contain -------------------
+
+FOUR_BAR = {
+    "frame": "0",
+    "drivers": ["O1"],
+    "joints": [
+        {"id": "O1", "links": ["0", "1"], "at": [0, 0]},
+        {"id": "A", "links": ["1", "2"], "at": [0, 1]},
+        {"id": "B", "links": ["2", "3"], "at": [2, 1.5]},
+        {"id": "O2", "links": ["3", "0"], "at": [2, 0]},
+    ],
+}
+
+
+def _cli(argv, capsys):
+    from mjstruct.cli.main import main
+
+    status = main(argv)
+    out = capsys.readouterr()
+    return status, out.out, out.err
+
+
+def test_non_regular_files_are_refused_before_reading(tmp_path, capsys):
+    import os
+
+    fifo = tmp_path / "pipe.json"
+    os.mkfifo(fifo)  # no writer: opening it would block forever
+    for path in ("/dev/zero", str(fifo), str(tmp_path)):
+        status, out, err = _cli(["analyze", path], capsys)
+        assert (status, out) == (2, "") and "not a regular file" in err and err.count("\n") == 1
+
+
+def test_files_over_the_size_limit_are_refused(tmp_path, capsys, monkeypatch):
+    import pytest
+
+    from mjstruct.errors import MechanismError
+    from mjstruct.io import MAX_FILE_BYTES
+
+    path = tmp_path / "m.json"
+    path.write_text(json.dumps(FOUR_BAR))
+    size = path.stat().st_size
+    with pytest.raises(MechanismError, match="exceeds 100 bytes; set MJSTRUCT_MAX_FILE_BYTES"):
+        read_mechanism(path, max_bytes=100)
+    assert read_mechanism(path, max_bytes=size).n == 4
+    monkeypatch.setenv("MJSTRUCT_MAX_FILE_BYTES", str(size - 1))
+    status, _, err = _cli(["analyze", str(path)], capsys)
+    assert status == 2 and "exceeds" in err
+    monkeypatch.setenv("MJSTRUCT_MAX_FILE_BYTES", "lots")
+    status, _, err = _cli(["analyze", str(path)], capsys)
+    assert status == 2 and err.startswith("mjstruct analyze: MJSTRUCT_MAX_FILE_BYTES:")
+    assert MAX_FILE_BYTES == 16 * 2**20  # the documented default
+
+
+def test_dash_reads_standard_input(capsys, monkeypatch):
+    import io
+    import sys
+
+    from mjstruct.io import mechanism_to_toml
+
+    for text in (json.dumps(FOUR_BAR), mechanism_to_toml(mechanism_from_dict(FOUR_BAR))):
+        monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(text.encode())))
+        status, out, _ = _cli(["analyze", "-", "--json"], capsys)
+        assert status == 0 and json.loads(out)["F"] == 1
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b"{" * 20)))
+    status, _, err = _cli(["analyze", "-"], capsys)
+    assert status == 2 and "standard input: not valid JSON" in err
+
+
+def test_deep_nesting_and_huge_numbers_are_bad_input(tmp_path, capsys):
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)
+    status, _, err = _cli(["analyze", str(deep)], capsys)
+    assert status == 2 and "nested too deeply" in err and err.count("\n") == 1
+    big = json.loads(json.dumps(FOUR_BAR))
+    big["joints"][1]["at"] = [10**400, 0]
+    path = tmp_path / "big.json"
+    path.write_text(json.dumps(big))
+    status, _, err = _cli(["analyze", str(path)], capsys)
+    assert status == 2 and "joints[1].at: expected [x, y] with two finite numbers" in err
+    assert len(err) < 200  # the number is not echoed in full
+    path.write_text(json.dumps(FOUR_BAR).replace('"at": [0, 1]', '"at": [' + "9" * 5000 + ", 1]"))
+    status, _, err = _cli(["analyze", str(path)], capsys)
+    assert status == 2 and "unreadable number" in err
+
+
+def test_point_ids_are_unique_and_distinct_from_joint_ids():
+    import pytest
+
+    from mjstruct.errors import MechanismError
+
+    twice = dict(FOUR_BAR, points=[{"id": "P", "link": "2", "at": [1, 1]}] * 2)
+    with pytest.raises(MechanismError, match=r"^points\[1\]\.id: point id 'P' is used twice$"):
+        mechanism_from_dict(twice)
+    clash = dict(FOUR_BAR, points=[{"id": "A", "link": "2", "at": [1, 1]}])
+    with pytest.raises(MechanismError, match=r"^points\[0\]\.id: 'A' is already a joint id$"):
+        mechanism_from_dict(clash)

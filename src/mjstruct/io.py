@@ -17,6 +17,10 @@ Examples
 from __future__ import annotations
 
 import json
+import math
+import os
+import stat
+import sys
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -31,16 +35,73 @@ if TYPE_CHECKING:
 _KNOWN_KEYS = {"name", "frame", "joints", "links", "drivers", "points"}
 
 
-def read_mechanism(path: str | Path) -> Mechanism:
-    """Read a mechanism file (``.json``, or ``.toml``)."""
+MAX_FILE_BYTES = 16 * 2**20
+"""Largest mechanism file read (16 MiB, some 100 000 joints); the environment variable
+``MJSTRUCT_MAX_FILE_BYTES`` or the ``max_bytes`` parameter raises it."""
+
+
+def _byte_limit(max_bytes: int | None) -> int:
+    if max_bytes is not None:
+        return max_bytes
+    raw = os.environ.get("MJSTRUCT_MAX_FILE_BYTES")
+    if raw is None:
+        return MAX_FILE_BYTES
+    try:
+        return int(raw)
+    except ValueError:
+        raise MechanismError(
+            f"MJSTRUCT_MAX_FILE_BYTES: expected a number of bytes, got {raw!r}"
+        ) from None
+
+
+def read_mechanism(path: str | Path, max_bytes: int | None = None) -> Mechanism:
+    """Read a mechanism file (``.json``, or ``.toml``); ``"-"`` reads standard input.
+
+    Only regular files (and standard input) are read, and at most ``max_bytes`` bytes
+    (default :data:`MAX_FILE_BYTES`): a device, a FIFO or a directory, or a larger
+    file, is refused before anything is read.
+    """
+    limit = _byte_limit(max_bytes)
+    if str(path) == "-":
+        data = sys.stdin.buffer.read(limit + 1)
+        if len(data) > limit:
+            raise MechanismError(f"-: standard input exceeds {_size(limit)}; {_RAISE}")
+        text = _decode(data, "-")
+        toml = not text.lstrip().startswith(("{", "["))
+        return parse_mechanism(text, toml=toml, source="standard input")
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        st = os.stat(p)
     except FileNotFoundError:
         raise MechanismError(f"{p}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except OSError as exc:
         raise MechanismError(f"{p}: cannot read ({exc.__class__.__name__})") from None
-    return parse_mechanism(text, toml=p.suffix.lower() == ".toml", source=str(p))
+    if not stat.S_ISREG(st.st_mode):
+        raise MechanismError(f"{p}: not a regular file (a directory, device or FIFO)")
+    if st.st_size > limit:
+        raise MechanismError(f"{p}: {_size(st.st_size)} exceeds {_size(limit)}; {_RAISE}")
+    try:
+        with p.open("rb") as fh:
+            data = fh.read(limit + 1)
+    except OSError as exc:
+        raise MechanismError(f"{p}: cannot read ({exc.__class__.__name__})") from None
+    if len(data) > limit:  # grew since it was measured
+        raise MechanismError(f"{p}: exceeds {_size(limit)}; {_RAISE}")
+    return parse_mechanism(_decode(data, str(p)), toml=p.suffix.lower() == ".toml", source=str(p))
+
+
+_RAISE = "set MJSTRUCT_MAX_FILE_BYTES to read a larger file"
+
+
+def _size(n: int) -> str:
+    return f"{n / 2**20:.1f} MiB" if n >= 2**20 else f"{n} bytes"
+
+
+def _decode(data: bytes, source: str) -> str:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise MechanismError(f"{source}: cannot read (not UTF-8 text)") from None
 
 
 def parse_mechanism(text: str, toml: bool = False, source: str = "input") -> Mechanism:
@@ -53,6 +114,10 @@ def parse_mechanism(text: str, toml: bool = False, source: str = "input") -> Mec
         ) from None
     except tomllib.TOMLDecodeError as exc:
         raise MechanismError(f"{source}: not valid TOML ({exc})") from None
+    except RecursionError:
+        raise MechanismError(f"{source}: nested too deeply to be a mechanism") from None
+    except ValueError as exc:  # an integer beyond Python's digit limit
+        raise MechanismError(f"{source}: unreadable number ({exc})") from None
     return mechanism_from_dict(data)
 
 
@@ -65,10 +130,15 @@ def _ident(value: Any, where: str) -> str:
 def _xy(value: Any, where: str) -> tuple[float, float]:
     ok = isinstance(value, (list, tuple)) and len(value) == 2
     if ok and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
-        x, y = float(value[0]), float(value[1])
-        if x == x and y == y and abs(x) != float("inf") and abs(y) != float("inf"):
+        try:
+            x, y = float(value[0]), float(value[1])
+        except OverflowError:  # an integer beyond the float range
+            x = y = float("inf")
+        if math.isfinite(x) and math.isfinite(y):
             return (x, y)
-    raise MechanismError(f"{where}: expected [x, y] with two finite numbers, got {value!r}")
+    shown = repr(value)
+    shown = shown if len(shown) <= 60 else shown[:57] + "..."
+    raise MechanismError(f"{where}: expected [x, y] with two finite numbers, got {shown}")
 
 
 def mechanism_from_dict(data: Any) -> Mechanism:
@@ -181,15 +251,16 @@ def _toml_value(v: Any) -> str:
         return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, Mapping):
-        return (
-            "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in v.items()) + "}"
-        )
+    if isinstance(v, Mapping):  # TOML has no null: a key whose value is null is left out
+        items = [(k, x) for k, x in v.items() if x is not None]
+        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in items) + "}"
     raise MechanismError(f"cannot write {type(v).__name__} value {v!r} as TOML")
 
 
 def mechanism_to_toml(m: Mechanism) -> str:
     """The contract's object as TOML text (reads back with :func:`parse_mechanism`).
+
+    TOML has no null: keys whose value is null are left out (read back as absent).
 
     >>> from mjstruct.mechanism import Mechanism
     >>> m = Mechanism.build([("a", [0, 1]), ("b", [1, 2, 0], "P")], frame=0)
@@ -198,7 +269,7 @@ def mechanism_to_toml(m: Mechanism) -> str:
     """
     d = mechanism_to_dict(m)
     tables = {k: d.pop(k) for k in ("joints", "points") if k in d}
-    lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in d.items()]
+    lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in d.items() if v is not None]
     for key, rows in tables.items():
         for row in rows:
             lines.append(f"\n[[{key}]]")

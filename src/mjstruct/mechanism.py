@@ -225,9 +225,15 @@ def validate(m: Mechanism) -> None:
     if m.frame is not None and m.frame not in known:
         raise MechanismError(f"frame: unknown link {m.frame!r}")
     validate_drivers(m, balance=False)  # a file may name any drivers; reports judge them
-    for p in m.points:
+    point_ids: set[str] = set()
+    for k, p in enumerate(m.points):
         if p.link not in known:
             raise MechanismError(f"points: point {p.id!r} is on unknown link {p.link!r}")
+        if p.id in point_ids:
+            raise MechanismError(f"points[{k}].id: point id {p.id!r} is used twice")
+        if p.id in seen:  # outputs key joints and points by id together
+            raise MechanismError(f"points[{k}].id: {p.id!r} is already a joint id")
+        point_ids.add(p.id)
     parts = components(m)
     if len(parts) > 1:
         smallest = min(parts, key=len)
