@@ -51,7 +51,14 @@ def run(args: argparse.Namespace) -> int:
         fig = draw_chart(model, args.what, args.frames, args.speed, args.stroke, ids)
     except MechanismError as exc:  # library parameter names -> flags
         text = str(exc)
-        for param, flag in (("ids:", "--ids:"), ("what:", "--what:"), ("drivers:", "--drivers:")):
+        for param, flag in (
+            ("ids:", "--ids:"),
+            ("what:", "--what:"),
+            ("drivers:", "--drivers:"),
+            ("speed:", "--speed:"),
+            ("qdot0:", "--speed:"),
+            ("frames:", "--frames:"),
+        ):
             if text.startswith(param):
                 text = flag + text[len(param) :]
         raise MechanismError(text) from None

@@ -262,6 +262,37 @@ def chain_caption(index: int, chain: Chain, catalog_id: str | None = None) -> st
     return f"{head}\n[LA] {la}  [MJA] {mja}\n{short}{flag}"
 
 
+def atlas_figures(
+    chains: Sequence[Chain],
+    catalog_ids: dict[str, str] | None = None,
+    title: str = "",
+    per_page: int | None = PER_PAGE,
+) -> list[Any]:
+    """One figure per page of ``per_page`` panels (None: all on one page), captioned."""
+    import matplotlib.pyplot as plt
+
+    ids = catalog_ids or {}
+    per = max(1, len(chains)) if per_page is None else max(1, per_page)
+    pages = [list(range(i, min(i + per, len(chains)))) for i in range(0, len(chains), per)]
+    figs = []
+    for page in pages or [[]]:
+        cols = min(6, max(1, len(page)))
+        rows = max(1, -(-len(page) // cols))
+        fig = plt.figure(figsize=(1.6 * cols + 0.4, 1.75 * rows + 0.6))
+        figs.append(fig)
+        for slot, k in enumerate(page):
+            c = chains[k]
+            ax = fig.add_subplot(rows, cols, slot + 1)
+            caption = chain_caption(k + 1, c, ids.get(c.canonical))
+            draw_chain(ax, c.mechanism(), caption=caption)
+        if not page:
+            fig.text(0.5, 0.5, "no chains", ha="center")
+        if title:
+            fig.suptitle(title, fontsize=9)
+        fig.tight_layout()
+    return figs
+
+
 def write_atlas_sheet(
     chains: Sequence[Chain],
     path: str,
@@ -277,28 +308,8 @@ def write_atlas_sheet(
     from mjstruct.plot.files import FIGURE_SUFFIXES, check_output, write_atomically
 
     suffix = check_output(path, FIGURE_SUFFIXES, name=name)
-    ids = catalog_ids or {}
-    per = max(1, per_page) if suffix == ".pdf" else max(1, len(chains))
-    pages = [list(range(i, min(i + per, len(chains)))) for i in range(0, len(chains), per)]
-    pages = pages or [[]]
-    figs = []
+    figs = atlas_figures(chains, catalog_ids, title, per_page if suffix == ".pdf" else None)
     try:
-        for page in pages:
-            cols = min(6, max(1, len(page)))
-            rows = max(1, -(-len(page) // cols))
-            fig = plt.figure(figsize=(1.6 * cols + 0.4, 1.75 * rows + 0.6))
-            figs.append(fig)
-            for slot, k in enumerate(page):
-                c = chains[k]
-                ax = fig.add_subplot(rows, cols, slot + 1)
-                draw_chain(
-                    ax, c.mechanism(), caption=chain_caption(k + 1, c, ids.get(c.canonical))
-                )
-            if not page:
-                fig.text(0.5, 0.5, "no chains", ha="center")
-            if title:
-                fig.suptitle(title, fontsize=9)
-            fig.tight_layout()
 
         def write(tmp: str) -> None:
             if suffix == ".pdf":

@@ -1,11 +1,15 @@
-"""Charts against the driver coordinate q: angles, ω, ε, paths, Jacobian, transmission.
+"""Charts against the driver coordinate q: angles, ω, ε, paths, Jacobian, transmission,
+and with the dynamics plug-in V(q), Q(q), q̇(q), q̈(q) and joint reactions.
 
 Owns the registry :data:`CHARTS` that ``mjstruct plot --what`` dispatches on: each
 chart names the derivative order it needs (a chart computes only what it shows) and
 a function that draws it from a solved :class:`~mjstruct.kinematics.model.Motion`.
 Frames that do not assemble are gaps in the curves, shaded grey; the Jacobian and
 transmission charts shade the near-singular frames (|det| below 10⁻³ of its largest
-value over the cycle) red.  Adding a chart is one entry in :data:`CHARTS`.
+value over the cycle) red.  A dynamics chart asks :func:`mjstruct.dynamics.dynamic_analysis`
+for its one output: V and Q at constant speed (the ``--speed``), q̇ and q̈ of the free
+motion from q̇0 = speed, reactions at constant speed.  Adding a chart is one entry in
+:data:`CHARTS`.
 
 Examples
 --------
@@ -48,12 +52,14 @@ TRANSMISSION_LIMITS = (40.0, 140.0)
 
 @dataclass(frozen=True)
 class ChartData:
-    """What a chart draws from: the motion over the cycle and the user's choices."""
+    """What a chart draws from: the motion over the cycle, the user's choices and, for a
+    dynamics chart, the :class:`~mjstruct.dynamics.DynamicsResult`."""
 
     model: KinematicModel
     motion: Motion
     speed: float
     ids: tuple[str, ...] | None
+    dynamics: Any = None
 
     @property
     def q(self) -> FloatArray:
@@ -246,9 +252,40 @@ def _legend(ax: Axes) -> None:
         ax.legend(fontsize=8)
 
 
-def _needs_dynamics(name: str) -> Callable[[ChartData, Figure], None]:
+def _dynamic(what: str) -> Callable[[ChartData, Figure], None]:
+    labels = {
+        "V": "reduced moment of inertia V",
+        "Q": "generalised force Q",
+        "qdot": "q̇ (free motion)",
+        "qddot": "q̈ (free motion)",
+    }
+
     def draw(data: ChartData, fig: Figure) -> None:
-        raise MechanismError(f"what: chart {name!r} needs the dynamics plug-in")
+        dyn = data.dynamics
+        assert dyn is not None
+        ax = fig.add_subplot()
+        if what == "reactions":
+            m = data.model.mechanism
+            for jid, per in (dyn.reactions or {}).items():
+                # a simple joint: the load on its second link (the first gets the opposite)
+                links = list(per) if m.joint(jid).is_multiple else [m.joint(jid).links[1]]
+                for link in links:
+                    f = per[link]
+                    mag = np.hypot(f["x"], f["y"])
+                    ax.plot(
+                        data.q,
+                        data.masked(mag),
+                        lw=1.3,
+                        label=f"{jid} on {link}",
+                        gid=f"reaction:{jid}:{link}",
+                    )
+            _finish(ax, data, "|R| (force units)")
+            ax.legend(fontsize=7, ncols=3)
+            return
+        y = getattr(dyn, what)
+        y = y[:, 0] if y.ndim == 2 else y
+        ax.plot(data.q[: y.size], y, lw=1.4, color="tab:blue", gid=what)
+        _finish(ax, data, labels[what])
 
     return draw
 
@@ -264,11 +301,19 @@ CHARTS: dict[str, Chart] = {
         Chart(
             "transmission", 0, False, "transmission angle of a four-bar against q", _transmission
         ),
-        Chart("V", 0, True, "reduced moment of inertia V(q)", _needs_dynamics("V")),
-        Chart("Q", 0, True, "generalised force Q(q)", _needs_dynamics("Q")),
-        Chart("qdot", 0, True, "driver speed q̇(q) under the loads", _needs_dynamics("qdot")),
-        Chart("qddot", 0, True, "driver acceleration q̈(q)", _needs_dynamics("qddot")),
-        Chart("reactions", 0, True, "joint reactions against q", _needs_dynamics("reactions")),
+        Chart("V", 0, True, "reduced moment of inertia V(q)", _dynamic("V")),
+        Chart("Q", 0, True, "generalised force Q(q)", _dynamic("Q")),
+        Chart(
+            "qdot",
+            0,
+            True,
+            "driver speed q̇(q) under the loads (from q̇0 = speed)",
+            _dynamic("qdot"),
+        ),
+        Chart("qddot", 0, True, "driver acceleration q̈(q) under the loads", _dynamic("qddot")),
+        Chart(
+            "reactions", 0, True, "joint reactions |R| at constant speed", _dynamic("reactions")
+        ),
     )
 }
 
@@ -278,10 +323,10 @@ def chart(what: str, name: str = "what") -> Chart:
     if what not in CHARTS:
         raise MechanismError(f"{name}: unknown chart {what!r} (known: {', '.join(CHARTS)})")
     c = CHARTS[what]
-    if c.dynamics:
-        where = "is not installed" if not dynamics_available() else "has no chart for it yet"
+    if c.dynamics and not dynamics_available():
         raise MechanismError(
-            f"{name}: chart {what!r} needs the dynamics plug-in (mjstruct.dynamics), which {where}"
+            f"{name}: chart {what!r} needs the dynamics plug-in (mjstruct.dynamics), "
+            "which is not installed"
         )
     return c
 
@@ -301,10 +346,33 @@ def draw_chart(
     c = chart(what)
     if not math.isfinite(speed) or speed == 0:
         raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
-    motion = model.motion(model.sweep(frames, speed, stroke), order=c.order)
-    data = ChartData(model, motion, speed, None if ids is None else tuple(ids))
+    dyn = _dynamics_for(model, what, frames, speed) if c.dynamics else None
+    q = model.sweep(frames, speed, stroke) if dyn is None else dyn.q
+    motion = model.motion(q, order=c.order)
+    data = ChartData(model, motion, speed, None if ids is None else tuple(ids), dyn)
     if fig is None:
         fig = plt.figure(figsize=(7, 5.5 if what == "paths" else 4.2))
     c.draw(data, fig)
     fig.suptitle(f"{model.mechanism.name or 'mechanism'}: {c.help}", fontsize=10)
     return fig
+
+
+def _dynamics_for(model: KinematicModel, what: str, frames: int, speed: float) -> Any:
+    """The dynamic analysis a dynamics chart needs, and only that output."""
+    from mjstruct.dynamics import dynamic_analysis
+    from mjstruct.dynamics.data import read_dynamics
+
+    m = model.mechanism
+    data = read_dynamics(m)
+    if not data.loads and all(i.mass == 0 and i.J == 0 for i in data.inertia.values()):
+        raise MechanismError(
+            "inertia: the file has no dynamics data (no masses, no loads) to chart"
+        )
+    if what in ("qdot", "qddot"):
+        return dynamic_analysis(
+            m, qdot0=speed, frames=frames, model=model, outputs=("coefficients",)
+        )
+    outputs = ("reactions",) if what == "reactions" else ("coefficients",)
+    if what != "reactions" and len(model.drivers) != 1:
+        raise MechanismError(f"what: {what} needs a mechanism with one driver")
+    return dynamic_analysis(m, speed=speed, frames=frames, model=model, outputs=outputs)

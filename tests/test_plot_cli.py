@@ -1,0 +1,296 @@
+"""``mjstruct draw``, ``animate`` and ``plot``: files written whole or not at all, frame
+counts read back, bad input as one line with exit 2; charts and atlas sheets."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import os
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from PIL import Image
+
+from mjstruct.catalog_files import example_path
+from mjstruct.cli.main import main
+from mjstruct.errors import MechanismError
+from mjstruct.io import mechanism_from_dict, read_mechanism
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.plot import animation as animation_module
+from mjstruct.plot.atlas_sheet import (
+    atlas_figures,
+    chain_layout,
+    crossings,
+    draw_chain,
+    write_atlas_sheet,
+)
+from mjstruct.plot.charts import CHARTS, draw_chart, jacobian_determinant, near_singular
+from mjstruct.plot.files import write_atomically
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def ex(name: str) -> str:
+    return str(example_path(name))
+
+
+def fails_cleanly(capsys, tmp_path, argv, message):
+    before = set(os.listdir(tmp_path))
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+    assert "Traceback" not in err
+    assert set(os.listdir(tmp_path)) == before  # nothing written, no temporary left
+
+
+def test_draw_writes_each_format(tmp_path, capsys):
+    for suffix in ("svg", "png", "pdf"):
+        out = tmp_path / f"engine.{suffix}"
+        argv = ["draw", ex("kin-radial-engine-5"), "--show", "assur,velocity", "-o", str(out)]
+        assert main(argv) == 0
+        assert out.stat().st_size > 1000
+    assert (tmp_path / "engine.svg").read_text().lstrip().startswith("<?xml")
+    assert (tmp_path / "engine.png").read_bytes()[:4] == b"\x89PNG"
+    assert (tmp_path / "engine.pdf").read_bytes()[:4] == b"%PDF"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--show", "speed"], "--show: unknown layer 'speed'"),
+        (["--q", "1,2"], "--q: expected 1 finite value(s)"),
+        (["--q", "x"], "--q: expected numbers"),
+        (["--paths", "Z"], "--paths: 'Z' is neither"),
+        (["--drivers", "Q"], "--drivers: 'Q' is not a joint id"),
+    ],
+)
+def test_draw_bad_input(tmp_path, capsys, args, message):
+    out = str(tmp_path / "x.svg")
+    fails_cleanly(capsys, tmp_path, ["draw", ex("slider-crank"), *args, "-o", out], message)
+
+
+@pytest.mark.parametrize("command", ["draw", "animate", "plot"])
+def test_bad_output_paths(tmp_path, capsys, command):
+    extra = ["--what", "angles"] if command == "plot" else []
+    argv = [command, ex("four-bar"), *extra, "-o"]
+    fails_cleanly(capsys, tmp_path, [*argv, str(tmp_path / "x.bmp")], "-o: no writer for '.bmp'")
+    fails_cleanly(capsys, tmp_path, [*argv, str(tmp_path / "x")], "-o: no writer for a file")
+    (tmp_path / "file").write_text("")
+    out = str(tmp_path / "file" / "x.svg")
+    fails_cleanly(
+        capsys,
+        tmp_path,
+        [*argv, out.replace(".svg", ".gif" if command == "animate" else ".svg")],
+        "-o: cannot write",
+    )
+
+
+def test_mp4_needs_ffmpeg(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(animation_module, "ffmpeg_available", lambda: False)
+    argv = ["animate", ex("four-bar"), "--frames", "4", "-o", str(tmp_path / "a.mp4")]
+    fails_cleanly(capsys, tmp_path, argv, "-o: writing .mp4 needs ffmpeg")
+
+
+def test_a_failed_write_leaves_nothing(tmp_path):
+    target = tmp_path / "out.png"
+
+    def broken(tmp: str) -> None:
+        with open(tmp, "w") as f:
+            f.write("half a picture")
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(MechanismError, match="cannot write"):
+        write_atomically(str(target), broken)
+    assert os.listdir(tmp_path) == []
+    target.write_text("old")
+    with pytest.raises(MechanismError):
+        write_atomically(str(target), broken)
+    assert os.listdir(tmp_path) == ["out.png"] and target.read_text() == "old"
+
+
+def test_gif_has_n_frames(tmp_path, capsys):
+    out = tmp_path / "engine.gif"
+    argv = ["animate", ex("kin-radial-engine-5"), "--frames", "7", "--show", "velocity",
+            "--dpi", "30", "-o", str(out)]  # fmt: skip
+    assert main(argv) == 0
+    assert Image.open(out).n_frames == 7
+    assert capsys.readouterr().err == ""  # no progress bar off a terminal
+
+
+def test_html_holds_n_frames_and_stands_alone(tmp_path):
+    out = tmp_path / "four-bar.html"
+    assert main(["animate", ex("four-bar"), "--frames", "6", "--dpi", "30", "-o", str(out)]) == 0
+    page = out.read_text()
+    assert page.count("data:image/png;base64") == 6
+    assert "<button" in page or "onclick" in page  # play controls
+    assert os.listdir(tmp_path) == ["four-bar.html"]  # no frame folder beside it
+
+
+def test_animation_notes_gaps(tmp_path, capsys):
+    f = tmp_path / "rocker.json"
+    f.write_text(
+        '{"frame": "0", "drivers": ["O1"], "joints": ['
+        '{"id": "O1", "links": ["0", "1"], "at": [0, 0]},'
+        '{"id": "A", "links": ["1", "2"], "at": [0, 2]},'
+        '{"id": "B", "links": ["2", "3"], "at": [1, 2]},'
+        '{"id": "O2", "links": ["3", "0"], "at": [2.6, 0]}]}'
+    )
+    out = tmp_path / "rocker.gif"
+    assert main(["animate", str(f), "--frames", "12", "--dpi", "30", "-o", str(out)]) == 0
+    assert Image.open(out).n_frames == 12
+    assert "frames do not assemble (drawn as gaps)" in capsys.readouterr().err
+
+
+@pytest.fixture
+def orders(monkeypatch):
+    asked: list[int] = []
+    original = KinematicModel.motion
+
+    def recording(self, q, order=2, *args, **kwargs):
+        asked.append(order)
+        return original(self, q, order, *args, **kwargs)
+
+    monkeypatch.setattr(KinematicModel, "motion", recording)
+    return asked
+
+
+@pytest.mark.parametrize(("what", "order"), [("angles", 0), ("omega", 1), ("eps", 2),
+                                             ("paths", 0), ("jacobian", 0)])  # fmt: skip
+def test_charts_compute_only_what_they_show(orders, what, order):
+    model = KinematicModel.build(read_mechanism(example_path("slider-crank")))
+    fig = draw_chart(model, what, frames=24)
+    assert orders == [order]
+    assert any(ax.get_lines() for ax in fig.axes)
+
+
+def test_omega_chart_is_sigma_times_speed():
+    from mjstruct.kinematics.solver import kinematic_analysis
+
+    m = read_mechanism(example_path("slider-crank"))
+    r = kinematic_analysis(m, frames=24, speed=3.0, checks=False)
+    fig = draw_chart(r.model, "omega", frames=24, speed=3.0)
+    line = next(ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "link:2")
+    assert np.allclose(line.get_ydata(), r.links["2"]["omega"], rtol=1e-12, atol=1e-12)
+    assert np.allclose(line.get_xdata(), r.q[:, 0])
+
+
+def parallelogram() -> KinematicModel:
+    return KinematicModel.build(mechanism_from_dict({
+        "frame": "0", "drivers": ["O1"], "joints": [
+            {"id": "O1", "links": ["0", "1"], "at": [0, 0]},
+            {"id": "A", "links": ["1", "2"], "at": [0, 1]},
+            {"id": "B", "links": ["2", "3"], "at": [2, 1]},
+            {"id": "O2", "links": ["3", "0"], "at": [2, 0]}]}))  # fmt: skip
+
+
+def test_jacobian_chart_shades_near_singular_frames():
+    model = parallelogram()
+    fig = draw_chart(model, "jacobian", frames=72)
+    ax = fig.axes[0]
+    spans = [p for p in ax.patches if p.get_gid() == "singular"]
+    motion = model.motion(model.sweep(72), order=0)
+    det = jacobian_determinant(motion)
+    # the parallelogram folds flat at q = 0 and π: the determinant vanishes there
+    assert near_singular(det).sum() >= 2
+    assert len(spans) >= 2
+    q = motion.q[:, 0] % (2 * np.pi)
+    flat = np.minimum(np.abs(np.sin(q)), 1.0)
+    assert (flat[near_singular(det)] < 0.1).all()
+
+
+def test_transmission_angle_is_a_four_bar_chart(tmp_path, capsys):
+    fig = draw_chart(parallelogram(), "transmission", frames=36)
+    y = fig.axes[0].get_lines()[0].get_ydata()
+    assert np.nanmin(y) >= 0 and np.nanmax(y) <= 180
+    # parallelogram: coupler ∥ frame, so the angle at B equals the crank angle's supplement
+    assert np.nanmax(y) > 170 and np.nanmin(y) < 10
+    out = str(tmp_path / "t.svg")
+    fails_cleanly(
+        capsys,
+        tmp_path,
+        ["plot", ex("slider-crank"), "--what", "transmission", "-o", out],
+        "--what: the transmission angle needs a four-bar",
+    )
+
+
+def test_plot_bad_chart(tmp_path, capsys):
+    out = str(tmp_path / "x.svg")
+    fails_cleanly(capsys, tmp_path, ["plot", ex("four-bar"), "--what", "speed", "-o", out],
+                  "--what: unknown chart 'speed'")  # fmt: skip
+    fails_cleanly(capsys, tmp_path, ["plot", ex("four-bar"), "--what", "V", "-o", out],
+                  "inertia: the file has no dynamics data")  # fmt: skip
+
+
+def test_dynamics_charts_plot_the_dynamics_result():
+    from mjstruct.dynamics import dynamic_analysis
+
+    m = read_mechanism(example_path("slider-crank-seed000-dynamics"))
+    model = KinematicModel.build(m)
+    free = dynamic_analysis(m, qdot0=10.0, frames=36)
+    fig = draw_chart(model, "qdot", frames=36, speed=10.0)
+    assert np.allclose(fig.axes[0].get_lines()[0].get_ydata(), free.qdot[:, 0])
+    steady = dynamic_analysis(m, speed=10.0, frames=36, outputs=("reactions",))
+    fig = draw_chart(model, "reactions", frames=36, speed=10.0)
+    lines = {ln.get_gid(): ln.get_ydata() for ln in fig.axes[0].get_lines()}
+    r = steady.reactions["B"]["3"]
+    assert np.allclose(lines["reaction:B:3"], np.hypot(r["x"], r["y"]))
+    assert set(CHARTS) >= {"V", "Q", "qdot", "qddot", "reactions"}
+
+
+def test_atlas_sheet_one_panel_per_chain_and_no_crossings(tmp_path):
+    from mjstruct.synthesis.atlas import atlas
+
+    a = atlas(1, 8, mj=True)
+    for c in a.chains:
+        lay = chain_layout(c.mechanism())
+        assert lay.planar == c.planar
+        if c.planar:
+            assert crossings(lay) == 0
+    some = a.chains[10:22]  # simple and MJ chains
+    figs = atlas_figures(some, per_page=5)
+    panels = [ax for fig in figs for ax in fig.axes]
+    assert len(figs) == 3 and len(panels) == len(some)
+    titles = [ax.get_title() for ax in panels]
+    assert titles[0].startswith("1\n[LA] ") and titles[-1].startswith(f"{len(some)}\n")
+    assert sum("[MJA] -" not in t for t in titles) == sum(bool(c.MJA) for c in some) > 0
+    out = tmp_path / "atlas.svg"
+    assert write_atlas_sheet(a.chains[:4], str(out)) == 1
+    pdf = tmp_path / "atlas.pdf"
+    assert write_atlas_sheet(a.chains[:7], str(pdf), per_page=3) == 3
+    fig = plt.figure()
+    ax = fig.add_subplot()
+    m = a.chains[-1].mechanism()
+    draw_chain(ax, m)
+    mj = [j for j in m.joints if j.is_multiple]
+    marks = [c for c in ax.collections if (c.get_gid() or "").startswith("mj:")]
+    assert len(marks) == len(mj) >= 1
+    assert all(len(c.get_offsets()) == len(m.joint(c.get_gid()[3:]).links) for c in marks)
+
+
+def test_atlas_sheet_panels(tmp_path):
+    from mjstruct.synthesis.atlas import atlas
+
+    chains = atlas(1, 8).chains
+    figs_before = set(plt.get_fignums())
+    write_atlas_sheet(chains[:3], str(tmp_path / "a.png"))
+    assert set(plt.get_fignums()) == figs_before  # closed
+    # a crossing drawing is detected (the check is not vacuous)
+    lay = chain_layout(chains[0].mechanism())
+    a, b = lay.edges()[0]
+    far = next(e for e in lay.edges() if not {a, b} & set(e))
+    pos = dict(lay.pos)
+    pos[a], pos[far[0]] = lay.pos[far[0]], lay.pos[a]
+    swapped = type(lay)(pos, lay.outline, lay.planar)
+    assert crossings(swapped) > 0
+
+
+def test_atlas_sheet_bad_suffix(tmp_path):
+    with pytest.raises(MechanismError, match="path: no writer"):
+        write_atlas_sheet([], str(tmp_path / "a.gif"))
