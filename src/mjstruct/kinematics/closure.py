@@ -88,10 +88,11 @@ def _solve(J: FloatArray, b: FloatArray) -> FloatArray:
     """Solve the stacked systems J x = b (least squares when not square)."""
     if J.shape[-1] == 1 and J.shape[-2] == 1:
         with np.errstate(divide="ignore", invalid="ignore"):
-            return b / J[..., 0]
+            x: FloatArray = b / J[..., 0]
+        return x
     if J.shape[-1] == J.shape[-2]:
         try:
-            return np.linalg.solve(J, b[..., None])[..., 0]
+            return np.asarray(np.linalg.solve(J, b[..., None])[..., 0], dtype=np.float64)
         except np.linalg.LinAlgError:
             pass
     return np.stack([np.linalg.lstsq(Ji, bi, rcond=None)[0] for Ji, bi in zip(J, b, strict=True)])
@@ -183,8 +184,9 @@ def close(
             return np.zeros(path.shape[1])
         pos = int(np.searchsorted(arc[moving + 1], sv, side="left"))
         j = int(moving[min(pos, moving.size - 1)])
-        d = path[j + 1] - path[j]
-        return d / np.abs(d).max()
+        d: FloatArray = path[j + 1] - path[j]
+        out: FloatArray = d / np.abs(d).max()
+        return out
 
     def frame_at(sv: float) -> int:
         return int(np.clip(np.searchsorted(arc, sv, side="right") - 2, 0, F - 1))
@@ -344,7 +346,8 @@ def derivatives(
 def _hermite(x: FloatArray, y: FloatArray, dy: FloatArray, xi: FloatArray) -> FloatArray:
     """Cubic Hermite interpolation of columns of y (slopes dy) at xi."""
     if x.size == 1:
-        return np.repeat(y, xi.size, axis=0) + (xi - x[0])[:, None] * dy
+        line: FloatArray = np.repeat(y, xi.size, axis=0) + (xi - x[0])[:, None] * dy
+        return line
     i = np.clip(np.searchsorted(x, xi, side="right") - 1, 0, x.size - 2)
     h = (x[i + 1] - x[i])[:, None]
     s = ((xi - x[i])[:, None]) / h

@@ -3,7 +3,7 @@
 Owns the link shapes: every joint centre ``at`` (one reference configuration fixes
 the distances on each link, ternary and multiple-joint links included), the guide
 direction ``axis`` of each prismatic joint, points of interest, and the
-*characteristic angle* of each link (seed 000: the direction of the vector from the
+*characteristic angle* of each link (the direction of the vector from the
 link's first to its second joint centre; a slider uses its guide; the frame is the
 x axis).  Positions are complex numbers ``x + iy`` throughout the plug-in.
 
@@ -26,10 +26,11 @@ import cmath
 from dataclasses import dataclass
 
 from mjstruct.errors import MechanismError
+from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.drivers import validate_drivers
 
-#: two joint centres closer than this (relative to the mechanism's size) coincide
-COINCIDE = 1e-12
+__all__ = ["COINCIDE", "Geometry", "read_geometry"]
 
 
 @dataclass(frozen=True)
@@ -139,9 +140,7 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
         points[p.id] = (p.link, complex(*p.at))
 
     driver_ref: dict[str, float] = {}
-    for d in m.drivers if drivers is None else drivers:
-        if d not in centres:
-            raise MechanismError(f"drivers: {d!r} is not a joint id")
+    for d in validate_drivers(m, drivers, balance=False):
         j = m.joint(d)
         if j.kind == "P":
             driver_ref[d] = 0.0

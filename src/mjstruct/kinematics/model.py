@@ -140,7 +140,7 @@ class KinematicModel:
         self,
         q: Sequence[float] | npt.ArrayLike,
         order: int = 2,
-        rates: Sequence[float] | None = None,
+        rates: Sequence[float] | npt.ArrayLike | None = None,
         tol: float = CLOSURE_TOL,
     ) -> Motion:
         """Solve the position functions on driver values ``q`` (taken as a path).

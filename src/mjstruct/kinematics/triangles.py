@@ -21,10 +21,19 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-Jet = list  # [value, first derivative, second derivative] (complex or real arrays)
+from mjstruct.kinematics.tolerances import CENTRES_APART, DISC_SLACK, PARALLEL
+
+#: an array over the frames (complex positions or real angles and residuals)
+Array = npt.NDArray[Any]
+#: [value, first derivative, second derivative] (as long as the order asked for)
+Jet = list[Array]
+#: an assembly mode: ±1 for every frame, or one per frame
+Mode = Array | int
 
 
 @dataclass
@@ -37,7 +46,7 @@ class Pose:
 
     zA: complex
     A: Jet
-    r: np.ndarray
+    r: Array
     w: Jet
 
     def point(self, z: complex) -> Jet:
@@ -63,21 +72,23 @@ class Pose:
         return out
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _dot(a: Array, b: Array) -> Array:
     """Scalar product of plane vectors stored as complex numbers."""
-    return a.real * b.real + a.imag * b.imag
+    out: Array = a.real * b.real + a.imag * b.imag
+    return out
 
 
-def solve2(g1: np.ndarray, h1: np.ndarray, g2: np.ndarray, h2: np.ndarray) -> np.ndarray:
+def solve2(g1: Array, h1: Array, g2: Array, h2: Array) -> Array:
     """X with ``g1·X = h1`` and ``g2·X = h2`` (plane vectors as complex numbers)."""
     det = g1.real * g2.imag - g1.imag * g2.real
     with np.errstate(divide="ignore", invalid="ignore"):
-        return -1j * (h1 * g2 - h2 * g1) / det
+        X: Array = -1j * (h1 * g2 - h2 * g1) / det
+    return X
 
 
 def circle_circle(
-    P1: Jet, P2: Jet, r1: float, r2: float, K: np.ndarray | int, order: int
-) -> tuple[Jet, np.ndarray, np.ndarray]:
+    P1: Jet, P2: Jet, r1: float, r2: float, K: Mode, order: int
+) -> tuple[Jet, Array, Array]:
     """Dyad RRR: the point at distances r1 from P1 and r2 from P2 on side K (±1).
 
     Returns the jet of the point, the discriminant h² / r1² (negative: the dyad does
@@ -87,11 +98,11 @@ def circle_circle(
     d = P2[0] - P1[0]
     D = np.abs(d)
     # coincident centres: the dyad is undefined (a change point of a hinged square)
-    D = np.where(1e-10 * (r1 + r2) < D, D, np.nan)
+    D = np.where(CENTRES_APART * (r1 + r2) < D, D, np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
         a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
         disc = (r1 * r1 - a * a) / (r1 * r1)
-        h = r1 * np.sqrt(np.where((disc < 0) & (disc > -1e-12), 0.0, disc))
+        h = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
         X0 = P1[0] + (a + 1j * K * h) * d / D
     X = [X0]
     g1, g2 = X0 - P1[0], X0 - P2[0]
@@ -105,8 +116,8 @@ def circle_circle(
 
 
 def circle_line(
-    P1: Jet, r1: float, L: Jet, n: Jet, K: np.ndarray | int, order: int
-) -> tuple[Jet, np.ndarray, np.ndarray]:
+    P1: Jet, r1: float, L: Jet, n: Jet, K: Mode, order: int
+) -> tuple[Jet, Array, Array]:
     """Dyad RRP: the point at distance r1 from P1 on the line through L with normal n.
 
     ``n`` is a unit normal (jet: it turns with the guide's link).  Returns the point's
@@ -118,7 +129,7 @@ def circle_line(
     beta = _dot(u, w)
     disc = (beta * beta - (_dot(w, w) - r1 * r1)) / (r1 * r1)
     with np.errstate(invalid="ignore"):
-        root = r1 * np.sqrt(np.where((disc < 0) & (disc > -1e-12), 0.0, disc))
+        root = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
     s = -beta + K * root
     X0 = L[0] + s * u
     X = [X0]
@@ -140,13 +151,7 @@ def circle_line(
     return X, disc, det
 
 
-#: |sine| between two guides below this: parallel, the dyad PRP / RPP has no intersection
-PARALLEL = 1e-12
-
-
-def line_line(
-    L1: Jet, n1: Jet, L2: Jet, n2: Jet, order: int
-) -> tuple[Jet, np.ndarray, np.ndarray]:
+def line_line(L1: Jet, n1: Jet, L2: Jet, n2: Jet, order: int) -> tuple[Jet, Array, Array]:
     """Dyads PRP and RPP: the point on the line through L1 (unit normal n1) and on L2's (n2).
 
     Each line is a guide carried by a placed link (``L`` the link's image of the solved
@@ -183,8 +188,8 @@ def line_line(
 
 
 def guide_pair(
-    P1: Jet, P2: Jet, z1: complex, z2: complex, axis: complex, K: np.ndarray | int, order: int
-) -> tuple[np.ndarray, Jet, np.ndarray, np.ndarray]:
+    P1: Jet, P2: Jet, z1: complex, z2: complex, axis: complex, K: Mode, order: int
+) -> tuple[Array, Jet, Array, Array]:
     """Dyad RPR: common rotation of two links sliding on each other along ``axis``.
 
     Link b carries P1 (reference z1), link c carries P2 (reference z2); the guide keeps
@@ -203,7 +208,7 @@ def guide_pair(
         alpha = np.arcsin(np.clip(ratio, -1.0, 1.0))
         alpha = np.where(np.asarray(K) > 0, alpha, np.pi - alpha)
         theta = np.angle(w) - np.angle(axis) - alpha
-        theta = np.where(disc >= -1e-12, theta, np.nan)
+        theta = np.where(disc >= -DISC_SLACK, theta, np.nan)
         r = np.exp(1j * theta)
         c = axis.conjugate() * r.conjugate()
         g = c * w
@@ -217,7 +222,7 @@ def guide_pair(
     return r, out, disc, g.real / W
 
 
-def rotation_between(P: Jet, Q: Jet, zP: complex, zQ: complex) -> tuple[np.ndarray, Jet]:
+def rotation_between(P: Jet, Q: Jet, zP: complex, zQ: complex) -> tuple[Array, Jet]:
     """Rotation of a link carrying P and Q (reference positions zP, zQ): ``r`` and θ', θ''."""
     v = Q[0] - P[0]
     e = zQ - zP
