@@ -6,6 +6,8 @@ expression), ``graphml`` and ``node-link`` (the link–joint graph).  By suffix:
 ``.json`` with the mechanism file, so it is named with ``node-link`` (when reading, a
 ``.json`` object with ``nodes`` and no ``joints`` is taken as node-link).
 
+Examples
+--------
 >>> format_for("four-bar.graphml")
 'graphml'
 >>> format_for("crank.txt")

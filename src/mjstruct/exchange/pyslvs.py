@@ -222,6 +222,8 @@ class _Reader:
 def parse_pyslvs(text: str, source: str = "expression") -> list[PyslvsJoint]:
     """The joints of a pyslvs expression, as written (no conversion).
 
+    Examples
+    --------
     >>> [j.links for j in parse_pyslvs("M[J[P, A[90], P[0, 1], L[ground, s]],]")]
     [('ground', 's')]
     """
@@ -479,6 +481,8 @@ def pyslvs_inputs(m: Mechanism) -> list[tuple[int, int]]:
     that is the joint itself and another joint of its second listed link.  Indices are
     places in :func:`mechanism_to_pyslvs`'s expression.
 
+    Examples
+    --------
     >>> m = Mechanism.build([("O", [0, 1]), ("A", [1, 2]), ("B", [2, 3]), ("C", [3, 0])],
     ...                     frame=0, drivers=["O"])
     >>> pyslvs_inputs(m)
