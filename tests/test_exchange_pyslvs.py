@@ -228,3 +228,18 @@ def test_pyslvs_inputs_name_the_driven_link():
     slider = read_mechanism(EXAMPLES / "seed002-ex3-excavator.json")
     with pytest.raises(MechanismError, match=r"drivers: .* is prismatic"):
         pyslvs_inputs(slider)
+
+
+def test_a_chain_without_frame_stays_without_frame():
+    chain = Mechanism.build(
+        [("a", ["ground", "x"]), ("b", ["x", "y"]), ("c", ["y", "z"]), ("d", ["z", "ground"])]
+    )
+    placed = Mechanism(
+        links=chain.links,
+        joints=tuple(
+            type(j)(j.id, j.links, j.kind, (float(k), 1.0 - k)) for k, j in enumerate(chain.joints)
+        ),
+    )
+    text = mechanism_to_pyslvs(placed)
+    assert "L[ground" not in text  # a link called ground is not pyslvs's frame
+    assert mechanism_from_pyslvs(text) == placed

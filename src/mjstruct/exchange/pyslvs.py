@@ -357,7 +357,8 @@ def mechanism_from_pyslvs(
         joints.append(Joint(jid, (links[0], block), "P", vp.at, axis))
         joints.append(Joint(f"{jid}_pin", (block, *links[1:]), "R", vp.at))
 
-    frame = head.get("frame", FRAME_LINK if FRAME_LINK in order else None)
+    # with the header, its frame (or none: a chain); without, pyslvs's ground link
+    frame = head.get("frame") if head else (FRAME_LINK if FRAME_LINK in order else None)
     link_order = [link_id(str(a)) for a, _ in link_pairs] if link_pairs else list(order)
     if set(link_order) != set(order):
         link_order = list(order)
