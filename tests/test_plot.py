@@ -172,8 +172,15 @@ def test_layers_parse_and_orders():
     assert kinematic_order(("paths", "assur")) == 0
     with pytest.raises(MechanismError, match="show: unknown layer 'speed'"):
         parse_layers("speed")
+    assert kinematic_order(("inertia",)) == 2 and kinematic_order(("reactions",)) == 0
+
+
+def test_force_layers_say_when_the_dynamics_plug_in_is_missing(monkeypatch):
+    from mjstruct.plot import layers
+
+    monkeypatch.setattr(layers, "dynamics_available", lambda: False)
     with pytest.raises(MechanismError, match="needs the dynamics plug-in"):
-        parse_layers("reactions")
+        parse_layers("velocity,reactions")
 
 
 def test_assur_layer_colours_groups():
@@ -293,3 +300,39 @@ def test_bad_arguments_name_the_parameter():
         scene_at(model, layers=("paths",), paths=["Z"])
     with pytest.raises(MechanismError, match=r"^speed: "):
         scene_at(model, speed=0.0)
+
+
+def test_force_layers_draw_the_dynamics_result(orders):
+    from mjstruct.dynamics import dynamic_analysis
+
+    m = read_mechanism(example_path("slider-crank-seed000-dynamics"))
+    model = KinematicModel.build(m)
+    r = dynamic_analysis(m, speed=10.0, frames=8, outputs=("reactions",))
+    k = 3
+    orders.clear()
+    scene = scene_at(model, q=r.q[k], layers=("reactions",), speed=10.0)
+    assert orders[0] == 0  # our own motion: positions only
+    ax = draw_scene(scene)
+    quiver = one(ax, "reactions")
+    assert len(quiver.U) == len(m.joints)  # one arrow per simple joint
+    for j in m.joints:
+        z = complex(*one(ax, f"joint:{j.id}").center) if j.kind == "R" else None
+        f = r.reactions[j.id][j.links[1]]
+        want = complex(f["x"][k], f["y"][k])
+        got = [complex(u, v) for u, v in zip(quiver.U, quiver.V, strict=True)]
+        assert min(abs(g - want) for g in got) <= 1e-6 * max(1.0, abs(want)), j.id
+        if z is not None:
+            assert any(abs(complex(*p) - z) < 1e-9 for p in quiver.get_offsets())
+    assert artists(ax, "inertia") == [] and artists(ax, "loads") == []
+    orders.clear()
+    scene = scene_at(model, q=1.0, layers=("inertia", "loads"), speed=10.0)
+    assert orders[0] == 2
+    ax = draw_scene(scene)
+    assert one(ax, "inertia") and one(ax, "loads")
+    couples = [a.get_text() for a in artists(ax, "couple")]
+    assert any(t.startswith("M (1) = -10") for t in couples)  # the file's couple -M, M = 10
+
+
+def test_force_layers_need_dynamics_data():
+    with pytest.raises(MechanismError, match="inertia: the file has no dynamics data"):
+        scene_at(model_of("slider-crank"), layers=("reactions",))

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -39,6 +39,7 @@ import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.model import KinematicModel, Motion
+from mjstruct.plot.forces import FORCE_LAYERS, ForceLayer, force_layers
 from mjstruct.plot.layers import kinematic_order, parse_layers
 
 if TYPE_CHECKING:
@@ -78,8 +79,10 @@ class Scene:
     guides : prismatic joint -> (min, max) slide of its block along the guide,
         measured from the guide's reference point.
     limits : fixed axes limits (x0, x1, y0, y1) over the shown frames.
-    arrow_scale : layer -> drawing length per unit of the vector shown.
+    arrow_scale : layer -> drawing length per unit of the vector shown (``force``: one
+        scale for every force layer).
     decomposition : the Assur decomposition (``assur`` layer).
+    forces : force layer -> its arrows and couples (dynamics plug-in).
     """
 
     model: KinematicModel
@@ -92,6 +95,7 @@ class Scene:
     limits: tuple[float, float, float, float]
     arrow_scale: dict[str, float]
     decomposition: Decomposition | None = None
+    forces: dict[str, ForceLayer] = field(default_factory=dict)
 
     @property
     def pin(self) -> float:
@@ -139,7 +143,7 @@ def scene_at(
     cycle = None
     if "paths" in layers:
         cycle = model.motion(model.sweep(PATH_FRAMES, speed, stroke), order=0)
-    return _scene(model, motion, layers, speed, shown, cycle, paths)
+    return _scene(model, motion, layers, speed, shown, cycle, paths, over_cycle=False)
 
 
 def scene_over_cycle(
@@ -156,7 +160,7 @@ def scene_over_cycle(
     motion = model.motion(model.sweep(frames, speed, stroke), order=kinematic_order(layers))
     shown = np.arange(motion.q.shape[0])
     return _scene(
-        model, motion, layers, speed, shown, motion if "paths" in layers else None, paths
+        model, motion, layers, speed, shown, motion if "paths" in layers else None, paths, True
     )
 
 
@@ -173,6 +177,7 @@ def _scene(
     shown: IntArray,
     cycle: Motion | None,
     path_ids: Iterable[str] | None,
+    over_cycle: bool,
 ) -> Scene:
     m, geom = model.mechanism, model.geometry
     paths: dict[str, ComplexArray] = {}
@@ -198,6 +203,15 @@ def _scene(
             mags = [np.abs(v[ok]) for _, v in _vector_sites(model, motion, k, speed)]
             top = max((float(np.nanmax(a)) for a in mags if a.size), default=0.0)
             arrow_scale[layer] = ARROW * model.scale / top if top > 0 else 0.0
+    forces = force_layers(model, motion, layers, speed, over_cycle)
+    top_force = 0.0
+    for fl in forces.values():
+        for _, _, f in fl.arrows:
+            a = np.abs(f[ok])
+            a = a[np.isfinite(a)]
+            top_force = max(top_force, float(a.max()) if a.size else 0.0)
+    if forces:
+        arrow_scale["force"] = ARROW * model.scale / top_force if top_force > 0 else 0.0
     decomposition = None
     if "assur" in layers:
         from mjstruct.structure.assur import assur_groups
@@ -223,6 +237,9 @@ def _scene(
             if layer in layers:
                 for z, v in _vector_sites(model, motion, order, speed):
                     cloud.append(np.array([z[k] + v[k] * arrow_scale[layer]]))
+        for fl in forces.values():
+            for _, at, f in fl.arrows:
+                cloud.append(np.array([at[k] + f[k] * arrow_scale["force"]]))
     for z in paths.values():
         cloud.append(z[np.isfinite(z)])
     allz = np.concatenate(cloud)
@@ -235,7 +252,17 @@ def _scene(
         float(allz.imag.max() + pad),
     )
     return Scene(
-        model, motion, layers, speed, shown, paths, guides, limits, arrow_scale, decomposition
+        model,
+        motion,
+        layers,
+        speed,
+        shown,
+        paths,
+        guides,
+        limits,
+        arrow_scale,
+        decomposition,
+        forces,
     )
 
 
@@ -416,6 +443,7 @@ def draw_scene(
         ):
             if layer in scene.layers:
                 _vectors(ax, scene, k, layer, order, colour)
+        _forces(ax, scene, k)
     else:
         ax.text(
             0.5,
@@ -742,6 +770,60 @@ def _vectors(ax: Axes, scene: Scene, k: int, layer: str, order: int, colour: str
         coordinates="axes",
         fontproperties={"size": 8},
     )
+
+
+FORCE_COLOURS = {"loads": "tab:blue", "inertia": "tab:purple", "reactions": "tab:red"}
+
+
+def _forces(ax: Axes, scene: Scene, k: int) -> None:
+    """Arrows of the force layers on one scale, couples as labelled values."""
+    s = scene.arrow_scale.get("force", 0.0)
+    keyed = False
+    for row, layer in enumerate(x for x in FORCE_LAYERS if x in scene.forces):
+        fl = scene.forces[layer]
+        colour = FORCE_COLOURS[layer]
+        pts = [(at[k], f[k]) for _, at, f in fl.arrows if np.isfinite(at[k]) and np.isfinite(f[k])]
+        if pts and s > 0:
+            z = np.array([p for p, _ in pts])
+            f = np.array([v for _, v in pts])
+            quiver = ax.quiver(
+                z.real,
+                z.imag,
+                f.real,
+                f.imag,
+                angles="xy",
+                scale_units="xy",
+                scale=1.0 / s,
+                color=colour,
+                width=0.005,
+                zorder=7,
+                gid=layer,
+            )
+            if not keyed:
+                key = _nice(ARROW * scene.model.scale / s / 2)
+                ax.quiverkey(
+                    quiver,
+                    0.80,
+                    0.16,
+                    key,
+                    f"force {key:g} units",
+                    labelpos="E",
+                    coordinates="axes",
+                    fontproperties={"size": 8},
+                )
+                keyed = True
+        for n, (label, at, moment) in enumerate(fl.couples):
+            if np.isfinite(at[k]) and np.isfinite(moment[k]):
+                ax.annotate(
+                    f"{label} = {moment[k] + 0.0:.3g}",
+                    (at[k].real, at[k].imag),
+                    xytext=(8, -12 - 10 * (n + row)),
+                    textcoords="offset points",
+                    fontsize=7,
+                    color=colour,
+                    zorder=9,
+                    gid=f"couple:{layer}",
+                )
 
 
 def _nice(x: float) -> float:

@@ -3,7 +3,8 @@
 Owns the rule *a scene computes only what it shows*: every layer states the
 derivative order of the position functions it needs (0 positions, 1 velocity
 analogs, 2 acceleration analogs) and whether it needs the dynamics plug-in; a scene
-asks the kinematics for the largest order among its layers and nothing more.
+asks the kinematics for the largest order among its layers and nothing more (the
+reactions layer asks the dynamics plug-in, which solves its own motion).
 
 Examples
 --------
@@ -55,7 +56,7 @@ LAYERS: dict[str, Layer] = {
         Layer("paths", 0, False, "trajectories of chosen points over the cycle"),
         Layer("loads", 0, True, "applied forces and moments (dynamics plug-in)"),
         Layer("inertia", 2, True, "inertia forces and moments (dynamics plug-in)"),
-        Layer("reactions", 2, True, "joint reactions (dynamics plug-in)"),
+        Layer("reactions", 0, True, "joint reactions (dynamics plug-in)"),
     )
 }
 
@@ -71,7 +72,7 @@ def parse_layers(text: str | Iterable[str] | None, name: str = "show") -> tuple[
     Raises
     ------
     MechanismError
-        an unknown layer, or a dynamics layer without a drawing for it.
+        an unknown layer, or a dynamics layer without the dynamics plug-in.
     """
     if text is None:
         return ()
@@ -84,11 +85,10 @@ def parse_layers(text: str | Iterable[str] | None, name: str = "show") -> tuple[
         if layer not in LAYERS:
             known = ", ".join(sorted(LAYERS))
             raise MechanismError(f"{name}: unknown layer {layer!r} (known: {known})")
-        if LAYERS[layer].dynamics:
-            where = "is not installed" if not dynamics_available() else "is not drawn yet"
+        if LAYERS[layer].dynamics and not dynamics_available():
             raise MechanismError(
                 f"{name}: layer {layer!r} needs the dynamics plug-in (mjstruct.dynamics), "
-                f"which {where}"
+                "which is not installed"
             )
         if layer not in out:
             out.append(layer)
