@@ -1,5 +1,5 @@
 """Running independent enumeration tasks: in-process, on a process pool, or on Dask;
-and the tiny progress bar long runs print on a terminal.
+and the progress bar of long runs (tqdm: a widget in Jupyter, a bar on a terminal).
 
 Results come back in task order whatever the number of workers, so the caller's
 output is deterministic.
@@ -13,7 +13,6 @@ Examples
 from __future__ import annotations
 
 import sys
-import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TextIO
 
@@ -83,26 +82,37 @@ def _run_dask(
 
 
 class ProgressBar:
-    """``[#####.....] 12/40 tasks 3.1 s`` on stderr, redrawn in place; silent unless
-    enabled (the CLI enables it only on a terminal and without ``--json``)."""
+    """Progress of long work through ``tqdm.auto``: a widget in Jupyter, a bar on a
+    terminal (``label ▕████▏ 12/40 tasks 00:03`` on stderr, redrawn in place); silent
+    unless enabled (the CLI enables it only on a terminal and without ``--json``).
+
+    Called as ``bar(done, total)``; pass one as ``progress=`` to long functions
+    (``atlas``, animations), e.g. ``ProgressBar("atlas", enabled=True)`` in a notebook.
+    """
 
     def __init__(self, label: str, enabled: bool, stream: TextIO | None = None) -> None:
         self.label = label
         self.enabled = enabled
         self.stream = stream if stream is not None else sys.stderr
-        self.start = time.perf_counter()
+        self._bar: Any = None
 
     def __call__(self, done: int, total: int) -> None:
         if not self.enabled or total <= 0:
             return
-        width = 30
-        filled = width * done // total
-        bar = "#" * filled + "." * (width - filled)
-        elapsed = time.perf_counter() - self.start
-        self.stream.write(f"\r{self.label} [{bar}] {done}/{total} tasks {elapsed:.1f} s")
-        if done == total:
-            self.stream.write("\n")
-        self.stream.flush()
+        if self._bar is None:
+            from tqdm.auto import tqdm  # imported here: quiet runs never load it
+
+            self._bar = tqdm(
+                total=total,
+                desc=self.label,
+                file=self.stream,
+                leave=True,
+                bar_format="{desc} {bar} {n_fmt}/{total_fmt} tasks {elapsed}",
+            )
+        self._bar.update(done - self._bar.n)
+        if done >= total:
+            self._bar.close()
+            self._bar = None
 
     @classmethod
     def for_cli(cls, label: str, json_output: bool) -> ProgressBar:
