@@ -143,92 +143,76 @@ def exact_zone(
     clearances: Mapping[str, float],
     guess: float | None = None,
 ) -> float:
-    """The zone by feasibility search: every pin centre free in a disc of its clearance.
+    """The zone by a feasibility search: every pin centre free in a disc of its clearance.
 
-    With the coordinate ``fixed`` held, ``link`` is turned by ``beta`` and the
-    smallest ``t = max_j |offset_j|^2 / D_j^2`` over all placements is found
-    (SLSQP); the zone is where ``t <= 1``, its ends located by root finding.
-    Prismatic joints are taken without clearance.
+    With the coordinate ``fixed`` held, the pins' offsets ``e_j`` (``|e_j| <= D_j``)
+    are free and the closure ``Phi(y) = e`` is solved exactly; the largest and the
+    smallest turn of ``link`` over all such placements (SLSQP from the leading-order
+    estimate) bound the zone.  Prismatic joints are taken without clearance.
     """
-    from scipy.optimize import brentq, minimize
+    from scipy.optimize import minimize
 
     g = _fixed_coordinate(eq, fixed)
     g0 = g(x)[0]
     col = 3 * eq.moving.index(link) + 2
     blocks = _blocks(eq)
+    free = [
+        (jid, rows) for jid, rows, kind in blocks if kind == "R" and clearances.get(jid, 0) > 0
+    ]
+    radius = np.zeros(sum(r.stop - r.start for _, r, _ in blocks))
+    for jid, rows in free:
+        radius[rows] = clearances[jid] / eq.size
+    n, m = eq.n, radius.size
     v, _ = singular_direction(eq, x, fixed)
-    v = v / v[col] if abs(v[col]) > 1e-9 else np.eye(eq.n)[col]
-    n = eq.n
-    d2 = {jid: (clearances.get(jid, 0.0) / eq.size) ** 2 for jid, _, _ in blocks}
-
-    eq_blocks = [(jid, rows) for jid, rows, kind in blocks if kind == "P" or d2[jid] == 0.0]
-    in_blocks = [(jid, rows) for jid, rows, kind in blocks if kind == "R" and d2[jid] > 0.0]
-    e_col = np.eye(n + 1)[col]
-    e_t = np.eye(n + 1)[n]
-
-    def worst(beta: float) -> float:
-        target = x[col] + beta
-
-        def cons_eq(z: FloatArray) -> FloatArray:
-            y = z[:n]
-            r = eq.residual(y)
-            head = [g(y)[0] - g0, y[col] - target]
-            return np.concatenate([head, *(r[rows] for _, rows in eq_blocks)])
-
-        def cons_eq_jac(z: FloatArray) -> FloatArray:
-            y = z[:n]
-            J = eq.jacobian(y)
-            rows_ = [np.append(g(y)[1], 0.0), e_col]
-            rows_ += [
-                np.hstack([J[rows], np.zeros((J[rows].shape[0], 1))]) for _, rows in eq_blocks
-            ]
-            return np.vstack(rows_)
-
-        def cons_in(z: FloatArray) -> FloatArray:
-            y, t = z[:n], z[n]
-            r = eq.residual(y)
-            return np.array([t * d2[jid] - float(r[rows] @ r[rows]) for jid, rows in in_blocks])
-
-        def cons_in_jac(z: FloatArray) -> FloatArray:
-            y = z[:n]
-            r, J = eq.residual(y), eq.jacobian(y)
-            return np.array(
-                [np.append(-2 * r[rows] @ J[rows], d2[jid]) for jid, rows in in_blocks]
-            )
-
-        y0 = x + beta * v
-        r0 = eq.residual(y0)
-        t0 = max([float(r0[rows] @ r0[rows]) / d2[jid] for jid, rows in in_blocks] or [0.0])
-        res = minimize(
-            lambda z: z[n],
-            np.append(y0, t0),
-            jac=lambda z: e_t,
-            constraints=[
-                {"type": "eq", "fun": cons_eq, "jac": cons_eq_jac},
-                {"type": "ineq", "fun": cons_in, "jac": cons_in_jac},
-            ],
-            method="SLSQP",
-            options={"ftol": 1e-15, "maxiter": 500},
-        )
-        y = res.x[:n]
-        if float(np.abs(cons_eq(res.x)).max()) > 1e-9:
-            raise NumericalError(f"exact zone: the feasibility search failed ({res.message})")
-        r = eq.residual(y)  # the placement's true worst pin, not SLSQP's bound
-        return max([float(r[rows] @ r[rows]) / d2[jid] for jid, rows in in_blocks] or [0.0])
-
-    step = guess / 2 if guess and guess > 0 else 0.01
+    v = v / v[col] if abs(v[col]) > 1e-9 else np.eye(n)[col]
+    beta0 = 0.25 * (guess if guess and guess > 0 else 0.01)
     ends = []
     for sign in (1.0, -1.0):
-        hi = step * 1.5
-        while worst(sign * hi) <= 1.0:
-            hi *= 1.6
-            if hi > math.pi:
-                ends.append(sign * math.pi)
-                break
-        else:
-            lo = 0.0
-            root = brentq(lambda b, sg=sign: worst(sg * b) - 1.0, lo, hi, xtol=1e-11)
-            ends.append(sign * float(root))
+        # z = (y, u): offsets e = radius * u, |u_j| <= 1 for each free pin
+        y0 = x + sign * beta0 * v
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u0 = np.where(radius > 0, eq.residual(y0) / np.where(radius > 0, radius, 1), 0.0)
+        for _, rows in free:  # start inside the discs
+            k = float(np.linalg.norm(u0[rows]))
+            if k > 0.9:
+                u0[rows] *= 0.9 / k
+
+        def closure(z: FloatArray) -> FloatArray:
+            y, u = z[:n], z[n:]
+            return np.concatenate([eq.residual(y) - radius * u, [g(y)[0] - g0]])
+
+        def closure_jac(z: FloatArray) -> FloatArray:
+            y = z[:n]
+            top = np.hstack([eq.jacobian(y), -np.diag(radius)])
+            return np.vstack([top, np.append(g(y)[1], np.zeros(m))])
+
+        def discs(z: FloatArray) -> FloatArray:
+            u = z[n:]
+            return np.array([1.0 - float(u[rows] @ u[rows]) for _, rows in free])
+
+        def discs_jac(z: FloatArray) -> FloatArray:
+            out = np.zeros((len(free), n + m))
+            for k, (_, rows) in enumerate(free):
+                out[k, n + rows.start : n + rows.stop] = -2 * z[n:][rows]
+            return out
+
+        grad = np.zeros(n + m)
+        grad[col] = -sign
+        res = minimize(
+            lambda z, sg=sign: -sg * z[col],
+            np.concatenate([y0, u0]),
+            jac=lambda z, gr=grad: gr,
+            constraints=[
+                {"type": "eq", "fun": closure, "jac": closure_jac},
+                {"type": "ineq", "fun": discs, "jac": discs_jac},
+            ],
+            method="SLSQP",
+            options={"ftol": 1e-12, "maxiter": 300},
+        )
+        z = res.x
+        if float(np.abs(closure(z)).max()) > 1e-10 or float(discs(z).min()) < -1e-8:
+            raise NumericalError(f"exact zone: the feasibility search failed ({res.message})")
+        ends.append(float(z[col] - x[col]))
     psi = ends[0] - ends[1]
     if not math.isfinite(psi):
         raise NumericalError("exact zone: the feasibility search failed")

@@ -386,9 +386,10 @@ def _known(eq: ClosureEquations, bifs: list[Bifurcation], x: FloatArray) -> Bifu
 
 
 def _locate(f: Callable[[float], float], lo: float, hi: float) -> float:
+    """A sign change of ``f`` to 1e-10 (:func:`refine_change_point` polishes it)."""
     from scipy.optimize import brentq
 
-    return float(brentq(f, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200))
+    return float(brentq(f, lo, hi, xtol=1e-10, maxiter=200))
 
 
 def refine_change_point(eq: ClosureEquations, x: FloatArray) -> FloatArray:

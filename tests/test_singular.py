@@ -1,0 +1,435 @@
+"""Singular positions: the MS1-MS5 reference four-bars, random four-bars against the
+closed form and against dense sweeps of the kinematic model, a six-bar, invariance, and
+the CLI's contract."""
+
+from __future__ import annotations
+
+import cmath
+import json
+import math
+
+import numpy as np
+import pytest
+
+from mjstruct.catalog_files import example_path
+from mjstruct.cli.main import main
+from mjstruct.errors import MechanismError
+from mjstruct.io import mechanism_from_dict, read_mechanism
+from mjstruct.kinematics.fourbar import fourbar_singular_angles, fourbar_theory
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.kinematics.singular import classify_singular_frames, singular_analysis
+
+TWO_PI = 2 * math.pi
+
+
+def _ms(n: int):
+    return singular_analysis(read_mechanism(example_path(f"fourbar-ms{n}")))
+
+
+def _mod(a: float, b: float) -> float:
+    """|a - b| on the circle."""
+    return abs(math.remainder(a - b, TWO_PI))
+
+
+def _kinds(r, kind):
+    return [p for p in r.singular if p.kind == kind]
+
+
+# ---------------------------------------------------------------- MS1 ... MS5
+
+
+def test_ms4_swings_141_degrees_through_its_change_point():
+    r = _ms(4)
+    ext = _kinds(r, "output_extreme")
+    (cp,) = _kinds(r, "change_point")
+    # the two extremes lie on the two circuits that meet at the change point
+    swing = max(p.output_angle for p in ext) - min(p.output_angle for p in ext)
+    assert swing == pytest.approx(2 * math.acos(1 / 3), abs=1e-9)
+    assert math.degrees(swing) == pytest.approx(141.06, abs=0.005)
+    assert r.fourbar.swing == pytest.approx(swing, abs=1e-9)
+    assert _mod(cp.q, 0.0) < 1e-9 and cp.collinear == ("O1", "A", "B", "O2")
+    assert r.fourbar.system4 == (2,) and r.fourbar.motion == "crank-rocker"
+
+
+def test_ms2_dwells_half_a_turn_and_swings_60_degrees_per_side():
+    r = _ms(2)
+    cps = _kinds(r, "change_point")
+    assert sorted(round(_mod(p.q, 0.0), 9) for p in cps) == [0.0, round(math.pi, 9)]
+    # the dwell branch (B on O1) meets the moving one at q = 0 and pi: half a turn
+    (w,) = [w for w in r.warnings if w.startswith("fold arc")]
+    assert "output dwells" in w and "B sits on O1" in w
+    dwell = cps[0].output_angle
+    for p in _kinds(r, "output_extreme"):
+        assert _mod(p.output_angle, dwell) == pytest.approx(math.pi / 3, abs=1e-9)
+    assert r.fourbar.system4 == (1, 2)
+    assert r.fourbar.swing == pytest.approx(2 * math.pi / 3, abs=1e-9)
+
+
+def test_ms3_swings_120_per_side_and_has_time_ratio_2():
+    r = _ms(3)
+    (cp,) = _kinds(r, "change_point")
+    ext = _kinds(r, "output_extreme")
+    for p in ext:
+        assert _mod(p.output_angle, cp.output_angle) == pytest.approx(2 * math.pi / 3, abs=1e-9)
+    # strokes: from the change point (an extreme of both circuits) to the other extreme
+    strokes = sorted(_mod(p.q, cp.q) for p in ext)
+    assert strokes[0] == pytest.approx(2 * math.pi / 3, abs=1e-9)
+    assert (TWO_PI - strokes[0]) / strokes[0] == pytest.approx(2.0, abs=1e-9)
+    assert r.fourbar.time_ratio == pytest.approx(2.0)
+    assert r.fourbar.swing == pytest.approx(4 * math.pi / 3, abs=1e-9)
+
+
+def test_ms1_switches_at_180_and_360_degrees():
+    r = _ms(1)
+    assert [p.kind for p in r.singular] == ["change_point", "change_point"]
+    assert sorted(round(_mod(p.q, 0.0), 9) for p in r.singular) == [0.0, round(math.pi, 9)]
+    assert r.branches == 2 and r.fourbar.motion == "double-crank" and r.fourbar.swing is None
+    assert r.input_range.full_turn
+
+
+def test_ms5_hinged_square_has_three_branches_and_two_fold_arcs():
+    r = _ms(5)
+    assert r.branches == 3
+    assert [p.kind for p in r.singular] == ["change_point"] * 3
+    folds = [w for w in r.warnings if w.startswith("fold arc")]
+    assert len(folds) == 2
+    assert any("input stays" in w and "O2 sits on A" in w for w in folds)
+    assert any("output dwells" in w and "B sits on O1" in w for w in folds)
+    assert r.fourbar.system4 == (1, 2, 3)
+
+
+def test_change_points_located_to_1e_9():
+    for n in (1, 2, 4):
+        for p in _kinds(_ms(n), "change_point"):
+            assert min(_mod(p.q, 0.0), _mod(p.q, math.pi)) < 1e-9
+
+
+# ---------------------------------------------------------------- random four-bars
+
+
+def fourbar_file(P, phi=1.0, upper=True, rot=0.0, shift=0j, scale=1.0):
+    """A four-bar [P1 P2 P3] (frame 1) at input angle phi, optionally moved."""
+    p1, p2, p3 = P
+    A = p1 * cmath.exp(1j * phi)
+    d = abs(1 - A)
+    c = (p2 * p2 + d * d - p3 * p3) / (2 * p2 * d)
+    assert -1 < c < 1, "reference does not assemble"
+    B = A + p2 * (1 - A) / d * cmath.exp((1 if upper else -1) * 1j * math.acos(c))
+
+    def at(z):
+        w = (z * cmath.exp(1j * rot) + shift) * scale
+        return [w.real, w.imag]
+
+    return mechanism_from_dict(
+        {
+            "frame": "0",
+            "drivers": ["O1"],
+            "joints": [
+                {"id": "O1", "links": ["0", "1"], "at": at(0j)},
+                {"id": "A", "links": ["1", "2"], "at": at(A)},
+                {"id": "B", "links": ["2", "3"], "at": at(B)},
+                {"id": "O2", "links": ["3", "0"], "at": at(1 + 0j)},
+            ],
+        }
+    )
+
+
+def _sample(rng, motion):
+    """Lengths of a random four-bar with the given motion, and an assembling phi."""
+    while True:
+        P = rng.uniform(0.2, 2.5, size=3)
+        try:
+            fb = fourbar_theory(*P)
+        except MechanismError:  # the loop does not close
+            continue
+        if fb.motion != motion or fb.system4:
+            continue
+        lengths = sorted([1.0, *P])
+        if min(abs(lengths[0] + lengths[3] - lengths[1] - lengths[2]), 1) < 0.05:
+            continue  # too close to a change point for a coarse check
+        for phi in rng.uniform(0, TWO_PI, size=20):
+            d = abs(1 - P[0] * cmath.exp(1j * phi))
+            if abs(P[1] - P[2]) + 0.02 < d < P[1] + P[2] - 0.02:
+                return P, float(phi)
+
+
+MOTIONS = ["crank-rocker", "double-crank", "double-rocker", "triple-rocker", "rocker-crank"]
+
+
+@pytest.mark.parametrize("motion", MOTIONS)
+def test_random_fourbars_agree_with_closed_form_and_dense_sweep(motion):
+    rng = np.random.default_rng(MOTIONS.index(motion) + 11)
+    for _ in range(2):
+        P, phi = _sample(rng, motion)
+        m = fourbar_file(P, phi)
+        r = singular_analysis(m)
+        assert r.fourbar.motion == motion
+        closed = fourbar_singular_angles(*P)
+        lim = _kinds(r, "input_limit")
+        ext = _kinds(r, "output_extreme")
+        assert not _kinds(r, "change_point")
+        # the model's angles: q = phi; the output link points from B to O2 (theta + pi)
+        for p in lim:
+            assert min(_mod(p.q, a) for a in closed.input_limits) < 1e-9
+            assert p.collinear == ("A", "B", "O2")
+        for p in ext:
+            assert min(_mod(p.output_angle, t + math.pi) for t in closed.output_extremes) < 1e-9
+            assert p.collinear == ("O1", "A", "B")
+        one_circuit = not fourbar_theory(*P).grashof
+        n_lim, n_ext = len(closed.input_limits), len(closed.output_extremes)
+        assert len(lim) == (n_lim if one_circuit else n_lim // 2)
+        assert len(ext) == (n_ext if one_circuit else n_ext // 2)
+        assert r.input_range.full_turn == (motion in ("crank-rocker", "double-crank"))
+        _check_against_sweep(m, r)
+
+
+def _check_against_sweep(m, r, frames=3000):
+    """Extremes where the model's output velocity analog changes sign; input limits
+    where its frames stop assembling (both to the grid's spacing)."""
+    model = KinematicModel.build(m)
+    if r.input_range.full_turn:
+        q = model.sweep(frames)[:, 0]
+    else:
+        (lo, hi), *_ = r.input_range.intervals
+        q = np.linspace(lo - 0.05, hi + 0.05, frames)
+    mo = model.motion(q, order=1)
+    sig = mo.angle(r.output)[1]
+    ok = mo.valid
+    step = float(q[1] - q[0])
+    flips = [
+        0.5 * (q[i] + q[i + 1])
+        for i in range(len(q) - 1)
+        if ok[i] and ok[i + 1] and sig[i] * sig[i + 1] < 0
+    ]
+    edges = [q[i] for i in range(len(q) - 1) if ok[i] != ok[i + 1]]
+    # the model sweeps one assembly mode: every flip it sees is a listed extreme
+    ext = [p.q for p in _kinds(r, "output_extreme")]
+    for f in flips:
+        assert min(_mod(f, e) for e in ext) < 2 * step
+    lim = [p.q for p in _kinds(r, "input_limit")]
+    for e in edges:
+        assert min(_mod(e, x) for x in lim) < 2 * step
+
+
+# ---------------------------------------------------------------- six-bar
+
+
+def stephenson_six_bar():
+    pts = {"O1": (0, 0), "A": (0.15, 0.26), "B": (0.83, 0.68), "O2": (1, 0)}
+    pts |= {"C": (0.4, 0.9), "D": (1.25, 1.35), "O3": (1.7, 0.6)}
+    links = {
+        "O1": ["0", "1"],
+        "A": ["1", "2"],
+        "B": ["2", "3"],
+        "O2": ["3", "0"],
+        "C": ["2", "4"],
+        "D": ["4", "5"],
+        "O3": ["5", "0"],
+    }
+    return mechanism_from_dict(
+        {
+            "frame": "0",
+            "drivers": ["O1"],
+            "joints": [{"id": j, "links": links[j], "at": list(pts[j])} for j in pts],
+        }
+    )
+
+
+def test_six_bar_against_dense_sweep():
+    m = stephenson_six_bar()
+    r = singular_analysis(m)
+    assert r.output == "5"
+    ext = _kinds(r, "output_extreme")
+    assert ext, "the output rocker must have extremes"
+    _check_against_sweep(m, r, frames=4000)
+    # and every located extreme is seen by the sweep of its own circuit (where the
+    # reference circuit is swept): the flips count matches the listed extremes there
+    model = KinematicModel.build(m)
+    q = model.sweep(4000)[:, 0]
+    mo = model.motion(q, order=1)
+    sig = mo.angle("5")[1]
+    n_flips = int(np.sum((sig[:-1] * sig[1:] < 0) & mo.valid[:-1] & mo.valid[1:]))
+    assert n_flips >= 1
+    # the output angle at each extreme agrees with the model at that q
+    for p in ext:
+        out = model.motion([p.q], order=0).angle("5")[0][0]
+        if np.isfinite(out) and _mod(out, p.output_angle) < 1e-3:
+            assert _mod(out, p.output_angle) < 1e-9
+
+
+# ---------------------------------------------------------------- invariance
+
+
+@pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
+def test_invariant_under_translation_rotation_scale(scale):
+    P, phi = (0.5, 1.0, 1.5), 1.0
+    base = singular_analysis(fourbar_file(P, phi), clearance=0.01)
+    rot = 0.7
+    moved = singular_analysis(
+        fourbar_file(P, phi, rot=rot, shift=3 - 2j, scale=scale), clearance=0.01 * scale
+    )
+    assert [p.kind for p in moved.singular] == [p.kind for p in base.singular]
+    for a, b in zip(base.singular, moved.singular, strict=True):
+        # the frame is the x axis of every angle: q and link angles turn with the file
+        assert _mod(b.q, a.q + rot) < 1e-9
+        assert _mod(b.output_angle, a.output_angle + rot) < 1e-9
+        for za, zb in zip(a.zone, b.zone, strict=True):
+            assert zb.psi == pytest.approx(za.psi, abs=1e-12)
+
+
+# ---------------------------------------------------------------- zones
+
+
+def _brute_force_half_angle(long, r, pins, stretched, samples, rng):
+    """Largest turn of link long (about its pivot) over random pin offsets on the
+    clearance circles, with the chain closed exactly (circle intersection)."""
+    d = long + r if stretched else long - r
+    best = 0.0
+    for _ in range(samples):
+        e = [c * cmath.exp(1j * rng.uniform(0, TWO_PI)) for c in pins]
+        # pivot of long at e0, long's far end + e1 must lie at distance r from (d + e2)
+        centre = d + e[2] - e[0] - e[1]
+        # |long e^{ia} - centre| = r: cos(a - arg centre) = (long^2 + |c|^2 - r^2) / (2 long |c|)
+        c = (long * long + abs(centre) ** 2 - r * r) / (2 * long * abs(centre))
+        if -1 <= c <= 1:
+            best = max(best, abs(cmath.phase(centre)) + math.acos(c))
+    return best
+
+
+@pytest.mark.parametrize(
+    ("lam", "delta", "stretched"),
+    [(0.5, 0.01, True), (0.5, 0.01, False), (0.8, 0.02, True), (0.3, 0.005, False)],
+)
+def test_formula3_against_pin_in_hole_brute_force(lam, delta, stretched):
+    from mjstruct.kinematics.clearance import formula3
+
+    rng = np.random.default_rng(3)
+    pins = [delta / 3] * 3
+    psi = formula3(1.0, lam, delta, stretched)
+    brute = 2 * _brute_force_half_angle(1.0, lam, pins, stretched, 20000, rng)
+    assert brute <= psi + 1e-12
+    assert brute == pytest.approx(psi, rel=1e-2)
+    # the offsets all along the chain's line reach it exactly
+    aligned = 2 * _brute_force_aligned(1.0, lam, delta, stretched)
+    assert aligned == pytest.approx(psi, abs=1e-12)
+
+
+def _brute_force_aligned(long, r, delta, stretched):
+    d = long + r if stretched else long - r
+    best = 0.0
+    for a in np.linspace(0, math.pi, 20001):
+        if abs(abs(long * cmath.exp(1j * a) - d) - r) <= delta:
+            best = a
+        elif best > 0:
+            break
+    lo, hi = best, best + math.pi / 20000
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if abs(abs(long * cmath.exp(1j * mid) - d) - r) <= delta:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def test_seed_example_values_of_formula3():
+    from mjstruct.kinematics.clearance import formula3
+
+    assert math.degrees(formula3(1, 0.5, 0.01, True)) == pytest.approx(9.41, abs=0.005)
+    assert math.degrees(formula3(1, 0.5, 0.01, False)) == pytest.approx(16.30, abs=0.005)
+    assert formula3(1, 1, 0.001, False) == pytest.approx(TWO_PI)
+    assert formula3(1, 0.5, 0.0, True) == 0.0
+
+
+def test_exact_zone_reproduces_formula3_on_a_fourbar():
+    r = singular_analysis(read_mechanism(example_path("fourbar-ms4")), clearance=0.01, exact=True)
+    for p in r.singular:
+        for z in p.zone:
+            assert z.method == "formula-3"
+            assert z.psi_exact == pytest.approx(z.psi, abs=1e-10)
+
+
+def test_leading_order_zone_on_six_bar_matches_exact_to_its_order():
+    r = singular_analysis(stephenson_six_bar(), clearance=1e-4, exact=True)
+    for p in r.singular:
+        for z in p.zone:
+            assert z.method == "leading-order"
+            # leading order: relative error of the order of sqrt(clearance / size)
+            assert z.psi == pytest.approx(z.psi_exact, rel=1e-3)
+
+
+# ---------------------------------------------------------------- API and CLI
+
+
+def test_classify_singular_frames():
+    r = _ms(4)
+    names = classify_singular_frames(r, [0.0, 1e-8, 0.3, r.singular[0].q + TWO_PI], 1e-6)
+    assert names == ["change_point", "change_point", None, "output_extreme"]
+
+
+def test_cli_json_contract(capsys):
+    assert (
+        main(["singular", str(example_path("fourbar-ms4")), "--clearance", "0.01", "--json"]) == 0
+    )
+    d = json.loads(capsys.readouterr().out)
+    assert {"input", "output", "singular", "input_range", "fourbar", "warnings"} <= set(d)
+    assert d["input"] == "O1" and d["output"] == "3"
+    assert set(d["fourbar"]) >= {"MS", "grashof", "motion", "system4", "swing"}
+    for p in d["singular"]:
+        assert set(p) >= {"kind", "q", "output_angle", "collinear", "zone"}
+        for z in p["zone"]:
+            assert set(z) >= {"pair", "link", "psi"}
+    qs = [p["q"] for p in d["singular"]]
+    assert qs == sorted(qs)
+
+
+def test_cli_text_report(capsys):
+    assert main(["singular", str(example_path("fourbar-ms2"))]) == 0
+    out = capsys.readouterr().out
+    assert "crank-rocker" in out and "fold arc" in out and "change_point" in out
+
+
+def _locked(tmp_path):
+    path = tmp_path / "locked.json"
+    path.write_text(
+        json.dumps(
+            {
+                "frame": "0",
+                "drivers": ["O1"],
+                "joints": [
+                    {"id": "O1", "links": ["0", "1"], "at": [0, 0]},
+                    {"id": "A", "links": ["1", "2"], "at": [1, 0]},
+                    {"id": "B", "links": ["2", "3"], "at": [2, 0]},
+                    {"id": "O2", "links": ["3", "0"], "at": [-1, 0]},
+                ],
+            }
+        )
+    )
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    ("argv", "needle"),
+    [
+        (["{kin-five-bar}"], "F = 2"),
+        (["{fourbar-ms4}", "--clearance", "-0.1"], "--clearance"),
+        (["{fourbar-ms4}", "--output", "9"], "--output"),
+        (["{locked}"], "cannot move"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(argv, needle, capsys, tmp_path):
+    args = [
+        _locked(tmp_path) if a == "{locked}" else str(example_path(a[1:-1])) if a[0] == "{" else a
+        for a in argv
+    ]
+    assert main(["singular", *args]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and err.count("\n") == 1
+
+
+def test_library_raises_with_parameter_names():
+    m = read_mechanism(example_path("fourbar-ms4"))
+    with pytest.raises(MechanismError, match=r"^clearance:"):
+        singular_analysis(m, clearance=-1)
+    with pytest.raises(MechanismError, match=r"^output:"):
+        singular_analysis(m, output="nope")
