@@ -1,0 +1,570 @@
+"""Motion in time of a one-DOF mechanism: run-up, run-down, q(t) under speed-dependent loads.
+
+Owns :func:`motion_in_time` and its result :class:`TimeMotion`: the initial-value
+problem ``V(q) q̈ + W(q) q̇² = Q(q, q̇)`` (coefficients from
+:mod:`mjstruct.dynamics.time_terms`) solved by scipy's ``solve_ivp``, the stiffness
+test that chooses between an explicit and an implicit method, the analytic Jacobian
+given to the implicit one, and the error estimates; also the text and JSON that
+``mjstruct dynamics FILE --time T`` prints (:func:`time_report`, :func:`time_json`).
+
+The state is ``(q, q̇, w)`` with ``w = ∫ Q q̇ dt`` the work of the loads: the energy
+balance ``V q̇²/2 − T(0) − w`` is then a residual the solution must keep near zero.
+
+Stiffness ratio: ``S = max |∂q̈/∂q̇| · t_end``, the number of the fastest time
+constants of the speed (a steep torque–speed line makes ∂q̈/∂q̇ large) in the run.  An
+explicit method needs about ``S / 3`` steps for stability alone; above
+:data:`STIFF_RATIO` the implicit Radau method is used, with the Jacobian
+``[[0, 1], [∂q̈/∂q, ∂q̈/∂q̇]]``.
+
+Examples
+--------
+>>> from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> d = mechanism_to_dict(read_mechanism(example_path("slider-crank-seed000-dynamics")))
+>>> d["loads"] = [{"link": "1", "moment": "40*(1 - qdot/20)"},     # a motor's line
+...               {"link": "3", "force": ["-5*qdot", "0"]}]        # viscous resistance
+>>> d["parameters"] = {}
+>>> m = mechanism_from_dict(d)
+>>> r = motion_in_time(m, 3.0, frames=7)
+>>> r.solver, len(r.t), r.error < 1e-5, r.energy_residual < 1e-6
+('DOP853', 7, True, True)
+>>> round(float(r.qdot[0]), 9), bool(r.qdot[-1] > 5)
+(0.0, True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mjstruct.dynamics.data import DynamicsData, read_dynamics
+from mjstruct.dynamics.equation import PathForce, steady_parameter
+from mjstruct.dynamics.time_terms import TABLE_POINTS, ReducedEquation, reduced_equation
+from mjstruct.errors import MechanismError, NumericalError
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.mechanism import Mechanism
+
+FloatArray = npt.NDArray[np.float64]
+
+#: the solvers ``method`` may name (``auto`` chooses by the stiffness ratio)
+SOLVERS = ("auto", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+
+#: explicit solvers (no Jacobian)
+EXPLICIT = ("RK45", "DOP853")
+
+#: stiffness ratio above which ``auto`` integrates implicitly
+STIFF_RATIO = 1e3
+
+#: the reference run's tolerance is this much tighter
+REFERENCE_FACTOR = 100.0
+
+#: the tightest tolerance scipy accepts (100 machine epsilons, rounded up)
+TIGHTEST = 2.3e-14
+
+
+@dataclass(frozen=True)
+class TimeMotion:
+    """q(t) of a one-DOF mechanism, with what the solver did and how accurate it is.
+
+    Attributes
+    ----------
+    name : the mechanism's name.
+    driver : the driver joint (its coordinate is q).
+    t, q, qdot, qddot : output times and the motion at them.
+    V, Q : reduced inertia and generalised force at the output times.
+    work : work of the loads from t = 0 (the integrated ``∫ Q q̇ dt``).
+    parameters : every parameter's value.
+    solver : the scipy method used.
+    steps : accepted steps.
+    rhs_evaluations, jacobian_evaluations, lu_decompositions : the solver's counts.
+    stiffness_ratio : ``max |∂q̈/∂q̇| · t_end`` over the initial state and the run.
+    error : largest difference in q against a run at a 100× tighter tolerance
+        (None when not estimated).
+    error_qdot : the same for q̇.
+    energy_residual : largest ``|V q̇²/2 − T(0) − work|`` over the output times,
+        relative to the largest kinetic energy or work met.
+    coefficients : ``"table"`` (interpolated V, W, σ) or ``"exact"``.
+    table_error : the table's measured relative interpolation error (None: exact).
+    stopped : ``"t_end"`` or ``"rest"`` (q̇ reached zero: the lists end there).
+    warnings : what the user must know.
+    """
+
+    name: str
+    driver: str
+    t: FloatArray
+    q: FloatArray
+    qdot: FloatArray
+    qddot: FloatArray
+    V: FloatArray
+    Q: FloatArray
+    work: FloatArray
+    parameters: dict[str, float]
+    solver: str
+    steps: int
+    rhs_evaluations: int
+    jacobian_evaluations: int
+    lu_decompositions: int
+    stiffness_ratio: float
+    error: float | None
+    error_qdot: float | None
+    energy_residual: float
+    coefficients: str
+    table_error: float | None
+    stopped: str
+    warnings: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class _Segment:
+    """One solve_ivp run over part of the time span."""
+
+    sol: Any
+    method: str
+    steps: int
+    nfev: int
+    njev: int
+    nlu: int
+    ended_by: str  # "t_end", "rest" or "stiff"
+
+
+@dataclass(frozen=True)
+class _Path:
+    """The segments of a run, evaluated as one dense solution."""
+
+    segments: tuple[_Segment, ...]
+
+    @property
+    def t_stop(self) -> float:
+        return float(self.segments[-1].sol.t[-1])
+
+    @property
+    def y_stop(self) -> FloatArray:
+        return np.asarray(self.segments[-1].sol.y[:, -1], float)
+
+    @property
+    def states(self) -> FloatArray:
+        """The states at every accepted step (3 × points)."""
+        return np.concatenate([np.asarray(s.sol.y, float) for s in self.segments], axis=1)
+
+    def __call__(self, times: FloatArray) -> FloatArray:
+        out = np.empty((3, times.size))
+        lo = -np.inf
+        for seg in self.segments:
+            hi = float(seg.sol.t[-1])
+            sel = (times > lo) & (times <= hi) if lo > -np.inf else times <= hi
+            if sel.any():
+                out[:, sel] = seg.sol.sol(times[sel])
+            lo = hi
+        return out
+
+
+def _solve(
+    eq: ReducedEquation,
+    span: tuple[float, float],
+    y0: FloatArray,
+    method: str,
+    rtol: float,
+    atol: FloatArray,
+    rest: float,
+    watch: bool,
+) -> _Segment:
+    """One run from ``span[0]``; ``rest`` is the initial speed's sign (0: no rest event),
+    ``watch`` ends the run where the remaining time holds more than
+    :data:`STIFF_RATIO` of the fastest time constant (an explicit run turning stiff)."""
+    from scipy.integrate import solve_ivp
+
+    t_end = span[1]
+
+    def rhs(t: float, y: FloatArray) -> FloatArray:
+        qdd, Q = eq.rate(float(y[0]), float(y[1]))
+        return np.array([y[1], qdd, Q * y[1]])
+
+    def jac(t: float, y: FloatArray) -> FloatArray:
+        _, Q, a, dQ = eq.partials(y[:1], y[1:2])
+        return np.array(
+            [
+                [0.0, 1.0, 0.0],
+                [a[0, 0], a[1, 0], 0.0],
+                [dQ[0, 0] * y[1], Q[0] + dQ[1, 0] * y[1], 0.0],
+            ]
+        )
+
+    def at_rest(t: float, y: FloatArray) -> float:
+        return float(y[1])
+
+    def turns_stiff(t: float, y: FloatArray) -> float:
+        b = eq.partials(y[:1], y[1:2])[2][1, 0]
+        return float(abs(b) * (t_end - t)) - STIFF_RATIO
+
+    at_rest.terminal = True  # type: ignore[attr-defined]
+    at_rest.direction = -rest  # type: ignore[attr-defined]
+    turns_stiff.terminal = True  # type: ignore[attr-defined]
+    turns_stiff.direction = 1  # type: ignore[attr-defined]
+    events = [at_rest] if rest else []
+    if watch:
+        events.append(turns_stiff)
+    kw: dict[str, Any] = {} if method in EXPLICIT else {"jac": jac}
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(
+            rhs,
+            span,
+            y0,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            dense_output=True,
+            events=events or None,
+            **kw,
+        )
+    if sol.status == -1:
+        raise NumericalError(
+            f"the {method} integration failed at t = {float(sol.t[-1]):.9g}: {sol.message}"
+        )
+    ended = "t_end"
+    if sol.status == 1:
+        ended = "rest" if rest and len(sol.t_events[0]) else "stiff"
+    return _Segment(sol, method, len(sol.t) - 1, int(sol.nfev), int(sol.njev), int(sol.nlu), ended)
+
+
+def _integrate(
+    eq: ReducedEquation,
+    t_end: float,
+    y0: FloatArray,
+    method: str,
+    rtol: float,
+    atol: FloatArray,
+    stop_at_rest: bool,
+) -> _Path:
+    """Solve over ``[0, t_end]``; ``auto`` starts explicitly and goes on with Radau
+    from where the rest of the run is stiff."""
+    rest = float(np.sign(y0[1])) if stop_at_rest else 0.0
+    if method != "auto":
+        return _Path((_solve(eq, (0.0, t_end), y0, method, rtol, atol, rest, False),))
+    first = _solve(eq, (0.0, t_end), y0, "DOP853", rtol, atol, rest, True)
+    if first.ended_by != "stiff":
+        return _Path((first,))
+    t1 = float(first.sol.t[-1])
+    y1 = np.asarray(first.sol.y[:, -1], float)
+    rest = float(np.sign(y1[1])) if stop_at_rest else 0.0
+    return _Path((first, _solve(eq, (t1, t_end), y1, "Radau", rtol, atol, rest, False)))
+
+
+def _model_and_data(
+    mechanism: Mechanism | KinematicModel, drivers: Iterable[str] | None
+) -> tuple[KinematicModel, DynamicsData]:
+    if isinstance(mechanism, KinematicModel):
+        model = mechanism
+    else:
+        data = read_dynamics(mechanism)
+        model = KinematicModel.build(mechanism, drivers)
+        return model, data
+    return model, read_dynamics(model.mechanism)
+
+
+def motion_in_time(
+    mechanism: Mechanism | KinematicModel,
+    t_end: float,
+    *,
+    q0: float | None = None,
+    qdot0: float = 0.0,
+    frames: int = 201,
+    method: str = "auto",
+    rtol: float = 1e-8,
+    atol: float | None = None,
+    parameters: Mapping[str, float] | None = None,
+    table: int | None = TABLE_POINTS,
+    estimate: bool = True,
+    stop_at_rest: bool = True,
+    drivers: Iterable[str] | None = None,
+) -> TimeMotion:
+    """Integrate ``V q̈ + W q̇² = Q(q, q̇)`` from ``(q0, qdot0)`` over ``[0, t_end]``.
+
+    Parameters
+    ----------
+    mechanism : a mechanism with geometry and dynamics keys, or its kinematic model;
+        exactly one driver.
+    t_end : the end time (> 0).
+    q0 : the initial driver coordinate (default: the reference configuration's).
+    qdot0 : the initial speed (0: a run-up from rest).
+    frames : output times, equally spaced over ``[0, t_end]`` (>= 2).
+    method : ``auto`` (explicit DOP853, or Radau when the stiffness ratio exceeds
+        :data:`STIFF_RATIO`, switching to Radau where the rest of the run turns stiff), or
+        one of ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``.
+    rtol, atol : the solver's tolerances (``atol`` default ``rtol``, in the units of
+        q and q̇; the work's scales with the kinetic energy).
+    parameters : values overriding the file's.  An unknown (``null``) parameter left
+        open is solved as for steady motion when no load depends on ``qdot``.
+    table : grid points per turn of the interpolated coefficients, or None to solve the
+        kinematics at every evaluation (slow for iterated closures, exact).
+    estimate : also run at a 100× tighter tolerance and report the difference.
+    stop_at_rest : end the run where q̇ first returns to zero (a run-down).
+    drivers : the driver joint (default: the file's).
+
+    Raises
+    ------
+    MechanismError
+        bad input, naming the parameter (``t_end``, ``frames``, ``drivers``, ...).
+    NumericalError
+        the mechanism leaves its assembly or the solver fails.
+    """
+    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.floating)):
+        raise MechanismError("t_end: must be a number")
+    if not np.isfinite(t_end) or t_end <= 0:
+        raise MechanismError(f"t_end: must be a finite number > 0, got {t_end}")
+    if not np.isfinite(qdot0):
+        raise MechanismError(f"qdot0: must be finite, got {qdot0}")
+    if q0 is not None and not np.isfinite(q0):
+        raise MechanismError(f"q0: must be finite, got {q0}")
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
+        raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
+    if method not in SOLVERS:
+        raise MechanismError(f"method: unknown solver {method!r} (one of {', '.join(SOLVERS)})")
+    if not (np.isfinite(rtol) and TIGHTEST <= rtol < 1):
+        raise MechanismError(f"rtol: must be in [{TIGHTEST:g}, 1), got {rtol}")
+    if atol is not None and not (np.isfinite(atol) and atol > 0):
+        raise MechanismError(f"atol: must be a finite number > 0, got {atol}")
+    if table is not None and (isinstance(table, bool) or int(table) != table or table < 16):
+        raise MechanismError(f"table: must be an integer >= 16 or None, got {table}")
+    model, data = _model_and_data(mechanism, drivers)
+    if len(model.drivers) != 1:
+        raise MechanismError(
+            "drivers: motion in time needs exactly one driver, "
+            f"the mechanism has {len(model.drivers)}"
+        )
+    warnings: list[str] = []
+    params = _parameters(model, data, parameters, warnings)
+    start = float(model.q_ref[0]) if q0 is None else float(q0)
+    try:
+        eq = reduced_equation(model, data, params, table)
+    except NumericalError as exc:
+        if table is None:
+            raise
+        warnings.append(f"{exc}: the coefficients are solved exactly at every step")
+        eq = reduced_equation(model, data, params, None)
+    if eq.table_error is not None and eq.table_error > 1e-6:
+        warnings.append(
+            f"the interpolated coefficients carry a relative error up to {eq.table_error:.2g} "
+            f"(table of {table} points): pass a larger table or table=None"
+        )
+    V0 = float(eq.terms(np.array([start]))[0][0, 0])
+    if not V0 > 0:
+        raise MechanismError(
+            "inertia: the reduced inertia V is zero at q0; the motion needs masses that move"
+        )
+    stiffness = _stiffness(eq, start, qdot0, t_end)
+    T0 = V0 * qdot0**2 / 2
+    a = rtol if atol is None else float(atol)
+    # the work rides along: it does not steer the steps, so its balance measures them
+    atol_vec = np.array([a, a, np.inf])
+    y0 = np.array([start, float(qdot0), 0.0])
+
+    chosen = method
+    if method == "auto" and stiffness > STIFF_RATIO:
+        chosen = "Radau"
+    path = _integrate(eq, float(t_end), y0, chosen, rtol, atol_vec, stop_at_rest)
+    seg = path.segments
+    solver = "+".join(x.method for x in seg)
+    if len(seg) > 1:
+        warnings.append(
+            f"the motion turns stiff at t = {float(seg[0].sol.t[-1]):.9g}: "
+            f"{seg[0].method} up to there, {seg[1].method} from there on"
+        )
+    t_stop = path.t_stop
+    stopped = "t_end"
+    times = np.linspace(0.0, float(t_end), int(frames))
+    if seg[-1].ended_by == "rest":
+        stopped = "rest"
+        times = np.append(times[times < t_stop], t_stop)
+        warnings.append(
+            f"the mechanism comes to rest at t = {t_stop:.9g} (q = {float(path.y_stop[0]):.9g}); "
+            "the lists end there"
+        )
+    Y = path(times)
+    Y[:, 0] = y0
+    Y[:, -1] = path.y_stop if stopped == "rest" or t_stop == times[-1] else Y[:, -1]
+    q, qd, work = Y[0], Y[1], Y[2]
+    qdd, Q, V, _ = eq.acceleration(q, qd)
+    along = path.states
+    b_run = eq.partials(along[0], along[1])[2][1]
+    stiffness = max(stiffness, float(np.nanmax(np.abs(b_run))) * float(t_end))
+
+    T = V * qd**2 / 2
+    resid = np.abs(T - T0 - work)
+    size = max(float(np.max(T)), float(np.max(np.abs(work))), T0, 1e-300)
+    energy_residual = float(resid.max() / size)
+
+    err_q: float | None = None
+    err_qd: float | None = None
+    if estimate:
+        fine = max(rtol / REFERENCE_FACTOR, TIGHTEST)
+        try:
+            ref = _integrate(
+                eq, float(t_end), y0, chosen, fine, atol_vec / REFERENCE_FACTOR, stop_at_rest
+            )
+            inside = times <= min(t_stop, ref.t_stop)
+            Yr = ref(times[inside])
+            err_q = float(np.max(np.abs(Yr[0] - q[inside])))
+            err_qd = float(np.max(np.abs(Yr[1] - qd[inside])))
+        except NumericalError as exc:
+            warnings.append(f"no error estimate: the reference run failed ({exc})")
+    if not (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()):
+        raise NumericalError("the integration produced non-finite values")
+    return TimeMotion(
+        name=model.mechanism.name,
+        driver=model.drivers[0],
+        t=times,
+        q=q,
+        qdot=qd,
+        qddot=qdd,
+        V=V,
+        Q=Q,
+        work=work,
+        parameters=params,
+        solver=solver,
+        steps=sum(x.steps for x in seg),
+        rhs_evaluations=sum(x.nfev for x in seg),
+        jacobian_evaluations=sum(x.njev for x in seg),
+        lu_decompositions=sum(x.nlu for x in seg),
+        stiffness_ratio=stiffness,
+        error=err_q,
+        error_qdot=err_qd,
+        energy_residual=energy_residual,
+        coefficients=eq.kind,
+        table_error=eq.table_error,
+        stopped=stopped,
+        warnings=tuple(warnings),
+    )
+
+
+def _parameters(
+    model: KinematicModel,
+    data: DynamicsData,
+    given: Mapping[str, float] | None,
+    warnings: list[str],
+) -> dict[str, float]:
+    """Every parameter's value: the file's, overridden, the unknown given or solved."""
+    values = {k: v for k, v in data.parameters.items() if v is not None}
+    for k, v in (given or {}).items():
+        if k not in data.parameters:
+            raise MechanismError(f"parameters: {k!r} is not a parameter of the file")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v):
+            raise MechanismError(f"parameters: {k!r} must be a finite number")
+        values[k] = float(v)
+    p = data.unknown
+    if p is None or p in values:
+        return values
+    if data.uses_qdot:
+        raise MechanismError(
+            f"parameters.{p}: motion in time needs its value when a load depends on qdot "
+            "(pass parameters=)"
+        )
+    fixed = DynamicsData(
+        data.inertia,
+        data.gravity,
+        {**data.parameters, **values},
+        p,
+        data.loads,
+        data.energy_change,
+    )
+    solved, _, _ = steady_parameter(PathForce(model, fixed, 1.0), 0.0)
+    warnings.append(
+        f"parameters.{p} = {solved[p]:.12g}, solved for steady motion "
+        f"(cycle work = {data.energy_change:g})"
+    )
+    return solved
+
+
+def _stiffness(eq: ReducedEquation, q0: float, qdot0: float, t_end: float) -> float:
+    """``max |∂q̈/∂q̇| · t_end`` at the initial speed over one turn of q."""
+    qs = q0 + 2 * np.pi * np.arange(64) / 64 if eq.kind == "table" else np.array([q0])
+    b = eq.partials(qs, np.full(qs.shape, qdot0))[2][1]
+    return float(np.nanmax(np.abs(b))) * t_end
+
+
+def _num(x: float | None) -> float | None:
+    return None if x is None or not np.isfinite(x) else float(x) + 0.0
+
+
+def _list(a: FloatArray) -> list[float | None]:
+    return [_num(float(x)) for x in a]
+
+
+def time_json(r: TimeMotion) -> dict[str, Any]:
+    """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
+    return {
+        "t": _list(r.t),
+        "q": _list(r.q),
+        "qdot": _list(r.qdot),
+        "qddot": _list(r.qddot),
+        "V": _list(r.V),
+        "Q": _list(r.Q),
+        "work": _list(r.work),
+        "parameters": {k: _num(v) for k, v in r.parameters.items()},
+        "solver": r.solver,
+        "steps": r.steps,
+        "evaluations": {
+            "rhs": r.rhs_evaluations,
+            "jacobian": r.jacobian_evaluations,
+            "lu": r.lu_decompositions,
+        },
+        "stiffness_ratio": _num(r.stiffness_ratio),
+        "error": {
+            "q": _num(r.error),
+            "qdot": _num(r.error_qdot),
+            "energy": _num(r.energy_residual),
+        },
+        "coefficients": r.coefficients,
+        "table_error": _num(r.table_error),
+        "stopped": r.stopped,
+        "warnings": list(r.warnings),
+    }
+
+
+def _fmt(x: float | None) -> str:
+    return "-" if x is None or not np.isfinite(x) else f"{x:.6g}"
+
+
+def time_report(r: TimeMotion, rows: int = 11) -> str:
+    """The text report: the solver's work, the accuracy and a table of ``rows`` times."""
+    start = "from rest" if r.qdot[0] == 0 else f"from qdot = {_fmt(float(r.qdot[0]))}"
+    lines = [
+        f"{r.name or 'mechanism'}: motion in time {start}, driver {r.driver}, "
+        f"t = 0 … {_fmt(float(r.t[-1]))}",
+    ]
+    if r.parameters:
+        lines.append(
+            "parameters: " + ", ".join(f"{k} = {_fmt(v)}" for k, v in sorted(r.parameters.items()))
+        )
+    kind = "implicit" if r.solver not in EXPLICIT else "explicit"
+    lines.append(
+        f"solver {r.solver} ({kind}), stiffness ratio {_fmt(r.stiffness_ratio)}: {r.steps} steps, "
+        f"{r.rhs_evaluations} evaluations, {r.jacobian_evaluations} Jacobians, "
+        f"{r.lu_decompositions} LU"
+    )
+    coeff = (
+        f"interpolated (relative error {_fmt(r.table_error)})"
+        if r.coefficients == "table"
+        else "exact"
+    )
+    lines.append(f"coefficients V, W, Q: {coeff}")
+    acc = f"energy balance residual {_fmt(r.energy_residual)} (relative)"
+    if r.error is not None:
+        acc = (
+            f"error estimate |dq| {_fmt(r.error)}, |dqdot| {_fmt(r.error_qdot)} "
+            "(against a run 100x tighter); " + acc
+        )
+    lines.append(acc)
+    n = len(r.t)
+    idx = np.unique(np.linspace(0, n - 1, min(rows, n)).round().astype(int))
+    lines.append(f"  {'t':>12}  {'q':>12}  {'qdot':>12}  {'qddot':>12}")
+    for i in idx:
+        lines.append(
+            f"  {_fmt(float(r.t[i])):>12}  {_fmt(float(r.q[i])):>12}  "
+            f"{_fmt(float(r.qdot[i])):>12}  {_fmt(float(r.qddot[i])):>12}"
+        )
+    lines += [f"warning: {w}" for w in r.warnings]
+    return "\n".join(lines)
