@@ -20,7 +20,9 @@ from mjstruct.synthesis.admissibility import (
     rigid_subchain,
     subchain_mobility,
 )
+from mjstruct.synthesis.assur_atlas import assur_atlas
 from mjstruct.synthesis.atlas import atlas
+from mjstruct.synthesis.catalog import read_catalog
 
 # Published counts of non-fractionated simple-joint chains without rigid sub-chains
 # (Mruthyunjaya; Tsai, "Mechanism design: enumeration of kinematic structures").
@@ -332,3 +334,92 @@ def test_fast_admissibility_equals_brute_force_per_distribution() -> None:
                         assert ok == truth, (cg, row)
                         checked += 1
     assert checked > 5000
+
+
+# -- the size of a job, told before it starts ------------------------------------------
+
+
+def test_estimates_from_smaller_sizes_are_within_a_factor_three():
+    from mjstruct.synthesis.job_size import _extrapolate
+
+    sj = [(4, 1), (6, 2), (8, 16), (10, 230), (12, 6856)]
+    mj = [(4, 1), (6, 4), (8, 60), (10, 2645), (12, 248203)]
+    for series in (sj, mj):
+        for k in (3, 4):
+            guess = _extrapolate(tuple(series[:k]), series[k][0], 2)
+            assert guess is not None and 1 / 3 < guess / series[k][1] < 3
+
+
+def test_estimates_are_exact_where_counted():
+    from mjstruct.synthesis.job_size import assur_group_count_estimate, chain_count_estimate
+
+    assert chain_count_estimate(1, 10) == len(atlas(1, 10).chains) == 230
+    assert chain_count_estimate(2, 9, mj=True, fractionated=True) == len(read_catalog(2, 9))
+    assert chain_count_estimate(1, 11) == chain_count_estimate(2, 4) == 0
+    assert assur_group_count_estimate(6) == len(assur_atlas(6)) == 10
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--links", "1000"],
+        ["--links", "30"],
+        ["--links", "100", "--mj"],
+        ["--links", "300"],
+        ["--links", "14", "--mj"],
+        ["--assur", "--links", "1000"],
+        ["--assur", "--links", "12"],
+    ],
+)
+def test_cli_refuses_huge_jobs_with_their_size(capsys, argv):
+    import time
+
+    start = time.perf_counter()
+    assert main(["atlas", *argv]) == 2
+    assert time.perf_counter() - start < 5
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert captured.err.startswith("mjstruct atlas: --links: ")
+    assert "expected, more than 1000000; pass --large" in captured.err
+
+
+def test_large_flag_and_library_limit():
+    from mjstruct.errors import MechanismError
+
+    with pytest.raises(MechanismError, match=r"^limit: about 5\.0e\+07 chains for F = 1"):
+        atlas(1, 14, mj=True)
+    assert len(atlas(1, 8, limit=None).chains) == 16
+    assert main(["atlas", "--links", "8", "--large", "--json"]) == 0
+
+
+def test_workers_are_capped_at_the_core_count(monkeypatch):
+    import concurrent.futures
+
+    from mjstruct.synthesis import parallel
+
+    seen = []
+
+    class Recorder(concurrent.futures.ThreadPoolExecutor):
+        def __init__(self, max_workers):
+            seen.append(max_workers)
+            super().__init__(max_workers=1)
+
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", Recorder)
+    monkeypatch.setattr(parallel, "core_count", lambda: 2)
+    assert list(parallel.run_tasks(abs, [-1, -2, -3], workers=1000)) == [1, 2, 3]
+    assert seen == [2]
+    assert parallel.core_count() >= 1
+
+
+def test_python_dash_m_runs_the_command():
+    import subprocess
+    import sys
+
+    ok = subprocess.run(
+        [sys.executable, "-m", "mjstruct", "--version"], capture_output=True, text=True
+    )
+    assert ok.returncode == 0 and ok.stdout.startswith("mjstruct ")
+    bad = subprocess.run(
+        [sys.executable, "-m", "mjstruct", "analyze", "/dev/zero"], capture_output=True, text=True
+    )
+    assert bad.returncode == 2 and "not a regular file" in bad.stderr

@@ -9,6 +9,7 @@ from typing import Any
 
 from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
+from mjstruct.synthesis.job_size import CHAIN_LIMIT
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -17,7 +18,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mj", action="store_true", help="also chains with multiple joints")
     p.add_argument("--fractionated", action="store_true", help="also chains with a cut vertex")
     p.add_argument("--assur", action="store_true", help="Assur groups with n links instead")
-    p.add_argument("--workers", type=int, default=1, help="processes to use (default 1)")
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="processes to use (default 1; at most the number of cores)",
+    )
+    p.add_argument(
+        "--large",
+        action="store_true",
+        help=f"enumerate even when more than {CHAIN_LIMIT} results are expected",
+    )
     p.add_argument(
         "--scheduler", default=None, help="Dask scheduler address (optional dask extra)"
     )
@@ -90,29 +101,49 @@ def run(args: argparse.Namespace) -> int:
 
 
 FLAGS = {"n": "--links", "workers": "--workers", "F": "--dof"}
+TOO_LARGE = "pass --large to enumerate anyway"
+
+
+def _limit(args: argparse.Namespace) -> int | None:
+    return None if args.large else CHAIN_LIMIT
+
+
+def _refuse_large(text: str) -> MechanismError:
+    return MechanismError(f"--links: {text.removeprefix('limit: ')}; {TOO_LARGE}")
 
 
 def _run_atlas(args: argparse.Namespace, bar: Any) -> Any:
     from mjstruct.synthesis.atlas import atlas
 
-    with flag_names(**FLAGS):
-        return atlas(
-            args.dof,
-            args.links,
-            mj=args.mj,
-            fractionated=args.fractionated,
-            workers=args.workers,
-            progress=bar,
-            scheduler=args.scheduler,
-        )
+    try:
+        with flag_names(**FLAGS):
+            return atlas(
+                args.dof,
+                args.links,
+                mj=args.mj,
+                fractionated=args.fractionated,
+                workers=args.workers,
+                progress=bar,
+                scheduler=args.scheduler,
+                limit=_limit(args),
+            )
+    except MechanismError as exc:
+        if str(exc).startswith("limit:"):
+            raise _refuse_large(str(exc)) from None
+        raise
 
 
 def _run_assur(args: argparse.Namespace) -> int:
     """``mjstruct atlas --assur --links n``."""
     from mjstruct.synthesis.assur_atlas import assur_atlas
 
-    with flag_names(**FLAGS):
-        groups = assur_atlas(args.links, workers=args.workers)
+    try:
+        with flag_names(**FLAGS):
+            groups = assur_atlas(args.links, workers=args.workers, limit=_limit(args))
+    except MechanismError as exc:
+        if str(exc).startswith("limit:"):
+            raise _refuse_large(str(exc)) from None
+        raise
     if args.json:
         emit_json({"n": args.links, "count": len(groups), "groups": [g.to_dict() for g in groups]})
         return 0

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 from mjstruct.structure.mobility import link_count
 
@@ -20,7 +20,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--sj", action="store_true", help="with --count: also V = 0 rows")
     p.add_argument("--fractionated", action="store_true", help="with --count: count them too")
-    p.add_argument("--workers", type=int, default=1)
+    p.add_argument(
+        "--workers", type=int, default=1, help="processes (default 1; at most the cores)"
+    )
     p.add_argument("--json", action="store_true")
 
 
@@ -35,13 +37,16 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError("--count: needs --dof F")
     if args.dof is not None and args.dof < 1:
         raise MechanismError(f"--dof: need F >= 1, got {args.dof}")
+    if args.workers < 1:
+        raise MechanismError(f"--workers: need at least 1, got {args.workers}")
     cs = cells(args.kmax)
     out: dict[str, Any] = {"kmax": args.kmax, "count": len(cs), "cells": []}
     counts: dict[tuple[int, int], list[Any]] = {}
     if args.count:
-        rows = code_counts(
-            args.dof, args.kmax, args.fractionated, workers=args.workers, with_sj=args.sj
-        )
+        with flag_names(limit="--kmax", workers="--workers"):
+            rows = code_counts(
+                args.dof, args.kmax, args.fractionated, workers=args.workers, with_sj=args.sj
+            )
         for r in rows:
             counts.setdefault((r.K, r.V), []).append(r)
     for c in cs:

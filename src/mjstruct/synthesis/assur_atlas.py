@@ -34,6 +34,7 @@ from mjstruct.errors import MechanismError
 from mjstruct.structure.isomorphism import nauty_graph
 from mjstruct.structure.mobility import rigid_pair_count
 from mjstruct.synthesis.contracted import Vertex, contracted_graphs, degree_sequences
+from mjstruct.synthesis.job_size import CHAIN_LIMIT, assur_group_count_estimate, check_size
 
 
 @dataclass(frozen=True)
@@ -117,14 +118,22 @@ def minimal_rigid_chains(m: int, workers: int = 1) -> list[list[list[int]]]:
     return [c for chains in run_tasks(_minimal_rigid_task, tasks, workers) for c in chains]
 
 
-def assur_atlas(n: int, workers: int = 1) -> list[AssurGroupChain]:
-    """All Assur groups of n links (simple joints), sorted by (class, order, canonical)."""
+def assur_atlas(
+    n: int, workers: int = 1, limit: int | None = CHAIN_LIMIT
+) -> list[AssurGroupChain]:
+    """All Assur groups of n links (simple joints), sorted by (class, order, canonical).
+
+    Refuses (``MechanismError``) when about more than ``limit`` groups are expected
+    (None: no limit).
+    """
     from mjstruct.mechanism import Mechanism
     from mjstruct.structure.assur import group_class
     from mjstruct.structure.isomorphism import canonical_code
 
     if n < 1:
         raise MechanismError(f"n: need at least one link, got {n}")
+    estimate = assur_group_count_estimate(n)
+    check_size(estimate, f"Assur groups of {n} links", limit, "limit")
     out = []
     for joints in minimal_rigid_chains(n + 1, workers):
         m = n + 1

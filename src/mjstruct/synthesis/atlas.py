@@ -51,6 +51,7 @@ from mjstruct.synthesis.contracted import (
     contracted_graphs,
     degree_sequences,
 )
+from mjstruct.synthesis.job_size import CHAIN_LIMIT, chain_count_estimate, check_size
 
 
 @dataclass(frozen=True)
@@ -350,6 +351,7 @@ def atlas(
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
     scheduler: str | None = None,
+    limit: int | None = CHAIN_LIMIT,
 ) -> Atlas:
     """All non-isomorphic admissible chains with ``F`` DOF and ``n`` links.
 
@@ -367,11 +369,17 @@ def atlas(
         Called as ``progress(done, total)`` after each task.
     scheduler : str, optional
         Address of a Dask scheduler to run the tasks on (optional extra).
+    limit : int or None
+        Refuse (``MechanismError``) when about more chains than this are expected
+        (:func:`mjstruct.synthesis.job_size.chain_count_estimate`); None: no limit.
     """
     if n < 1:
         raise MechanismError(f"n: need at least one link, got {n}")
     if workers < 1:
         raise MechanismError(f"workers: need at least 1, got {workers}")
+    kind = f"chains for F = {F}, n = {n}" + (" with MJs" if mj else "")
+    estimate = chain_count_estimate(F, n, mj, fractionated)
+    check_size(estimate, kind, limit, "limit", loops=(n - 1 - F) // 2)
     result = Atlas(F, n, mj, fractionated)
     if n - 1 - F == 2 and n >= 4:  # K = 1: the n-gon
         result.chains.append(_cycle(n, F))

@@ -12,9 +12,17 @@ Examples
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TextIO
+
+
+def core_count() -> int:
+    """Cores this process may run on (the scheduler's affinity where known)."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(len(os.sched_getaffinity(0)), 1)
+    return os.cpu_count() or 1
 
 
 def run_tasks(
@@ -28,9 +36,11 @@ def run_tasks(
 
     ``workers > 1`` uses a :class:`concurrent.futures.ProcessPoolExecutor`;
     ``scheduler`` (an address such as ``"tcp://host:8786"``) sends the tasks to a Dask
-    cluster instead (needs the optional ``dask[distributed]``).
+    cluster instead (needs the optional ``dask[distributed]``).  Local workers are
+    capped at :func:`core_count` (more processes than cores only add overhead).
     """
     total = len(tasks)
+    workers = min(workers, core_count())
     if scheduler is not None:
         yield from _run_dask(fn, tasks, scheduler, progress)
         return
