@@ -28,6 +28,14 @@ PUBLIC = [
     "KinematicsResult",
     "Motion",
     "jacobian_at_reference",
+    "singular_analysis",
+    "SingularAnalysis",
+    "SingularPosition",
+    "classify_singular_frames",
+    "fourbar_theory",
+    "FourBar",
+    "plot_ms_diagram",
+    "plot_singular_zones",
     "kinematic_analysis",
     "plan_kinematics",
     "read_geometry",
@@ -93,6 +101,7 @@ CLI = [
     "kinematics",
     "lookup",
     "plot",
+    "singular",
 ]
 
 

@@ -69,6 +69,14 @@ _EXPORTS: dict[str, str] = {
     "plan_kinematics": "mjstruct.kinematics.planner",
     "read_geometry": "mjstruct.kinematics.geometry",
     "jacobian_at_reference": "mjstruct.kinematics.jacobian",
+    "singular_analysis": "mjstruct.kinematics.singular",
+    "SingularAnalysis": "mjstruct.kinematics.singular",
+    "SingularPosition": "mjstruct.kinematics.singular",
+    "classify_singular_frames": "mjstruct.kinematics.singular",
+    "fourbar_theory": "mjstruct.kinematics.fourbar",
+    "FourBar": "mjstruct.kinematics.fourbar",
+    "plot_ms_diagram": "mjstruct.plot.ms_diagram",
+    "plot_singular_zones": "mjstruct.plot.ms_diagram",
     "atlas": "mjstruct.synthesis.atlas",
     "Atlas": "mjstruct.synthesis.atlas",
     "Chain": "mjstruct.synthesis.atlas",
@@ -103,13 +111,21 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         read_mechanism,
         to_networkx,
     )
+    from mjstruct.kinematics.fourbar import FourBar, fourbar_theory
     from mjstruct.kinematics.geometry import read_geometry
     from mjstruct.kinematics.jacobian import jacobian_at_reference
     from mjstruct.kinematics.model import KinematicModel, Motion
     from mjstruct.kinematics.planner import plan_kinematics
+    from mjstruct.kinematics.singular import (
+        SingularAnalysis,
+        SingularPosition,
+        classify_singular_frames,
+        singular_analysis,
+    )
     from mjstruct.kinematics.solver import KinematicsResult, kinematic_analysis
     from mjstruct.mechanism import Joint, Mechanism, Point
     from mjstruct.plot.assur import plot_decomposition
+    from mjstruct.plot.ms_diagram import plot_ms_diagram, plot_singular_zones
     from mjstruct.report import StructuralReport, code_report, structural_report
     from mjstruct.structure.assortments import (
         Assortment,
