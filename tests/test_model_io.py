@@ -6,6 +6,9 @@ import json
 
 import networkx as nx
 import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mjstruct.io import from_link_graph, mechanism_from_dict, mechanism_to_dict, read_mechanism
 from mjstruct.mechanism import JOINT, LINK
@@ -171,3 +174,60 @@ def test_point_ids_are_unique_and_distinct_from_joint_ids():
     clash = dict(FOUR_BAR, points=[{"id": "A", "link": "2", "at": [1, 1]}])
     with pytest.raises(MechanismError, match=r"^points\[0\]\.id: 'A' is already a joint id$"):
         mechanism_from_dict(clash)
+
+
+def _paths(d, pre=()):
+    yield pre
+    if isinstance(d, dict):
+        for k, v in d.items():
+            yield from _paths(v, (*pre, k))
+    elif isinstance(d, list):
+        for i, v in enumerate(d):
+            yield from _paths(v, (*pre, i))
+
+
+FUZZ_BASE = dict(FOUR_BAR, name="four-bar", points=[{"id": "P", "link": "2", "at": [1, 2]}])
+JSON_VALUES = st.recursive(
+    st.none()
+    | st.booleans()
+    | st.integers(-(10**400), 10**400)
+    | st.floats(allow_nan=False, allow_infinity=False)
+    | st.text(max_size=5),
+    lambda inner: (
+        st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=4), inner, max_size=4)
+    ),
+    max_leaves=8,
+)
+
+
+@settings(max_examples=120, deadline=None)
+@given(
+    st.sampled_from(list(_paths(FUZZ_BASE))),
+    JSON_VALUES,
+    st.sampled_from(["analyze", "assur", "iso"]),
+)
+def test_any_value_in_any_field_is_an_answer_or_bad_input(tmp_path_factory, where, value, command):
+    """Fuzz: exit 0 or 2, never 1 (internal error), and strict JSON on success."""
+    import contextlib
+    import io
+
+    from mjstruct.cli.main import main
+
+    data = json.loads(json.dumps(FUZZ_BASE))
+    if where:
+        cur = data
+        for k in where[:-1]:
+            cur = cur[k]
+        cur[where[-1]] = value
+    else:
+        data = value
+    path = tmp_path_factory.mktemp("fuzz") / "m.json"
+    path.write_text(json.dumps(data))
+    argv = ["iso", str(path), str(path)] if command == "iso" else [command, str(path), "--json"]
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(argv)
+    assert status in (0, 2), err.getvalue()
+    assert err.getvalue().count("\n") == (status == 2)
+    if status == 0 and command != "iso":
+        json.loads(out.getvalue(), parse_constant=lambda c: pytest.fail(f"{c} in JSON"))
