@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -105,6 +105,9 @@ class SingularPosition:
     collinear : ids of the joints in line (file order).
     pairs : pairs of moving links in line with their shared joint.
     zone : clearance zones, one per pair (``None`` without a clearance).
+    configuration : the link coordinates there (``x, y, phi`` of each moving link,
+        lengths over the mechanism's size), as
+        :class:`~mjstruct.kinematics.singular_curve.ClosureEquations` numbers them.
     """
 
     kind: str
@@ -113,6 +116,7 @@ class SingularPosition:
     collinear: tuple[str, ...]
     pairs: tuple[tuple[str, str], ...]
     zone: tuple[Zone, ...] | None = None
+    configuration: tuple[float, ...] = field(default=(), repr=False, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
@@ -359,6 +363,7 @@ def singular_analysis(
                 coll,
                 pairs,
                 zone,
+                tuple(float(v) for v in x),
             )
         )
     positions.sort(key=lambda p: (p.q, KINDS.index(p.kind), p.output_angle))

@@ -53,7 +53,8 @@ class ClosureEquations:
 
     A moving link ``k`` has coordinates ``(x_k, y_k, phi_k)`` and maps its reference
     point ``z`` to ``x_k + i y_k + exp(i phi_k) z``; the reference configuration is
-    ``x = 0``.  Lengths are divided by :attr:`size`.
+    ``x = 0``.  Positions are measured from the driver's centre (:attr:`origin`) and
+    divided by :attr:`size`.
     """
 
     mechanism: Mechanism
@@ -64,6 +65,7 @@ class ClosureEquations:
     moving: tuple[str, ...]
     centres: dict[str, complex]
     angle_cols: tuple[int, ...] = field(repr=False)
+    origin: complex = 0j
 
     @classmethod
     def build(cls, m: Mechanism, driver: str, output: str | None = None) -> ClosureEquations:
@@ -76,7 +78,7 @@ class ClosureEquations:
         z0 = geom.centres[m.joint(driver).id]
         centres = {j: (z - z0) / size for j, z in geom.centres.items()}
         cols = tuple(3 * i + 2 for i in range(len(moving)))
-        return cls(m, geom, driver, out, size, moving, centres, cols)
+        return cls(m, geom, driver, out, size, moving, centres, cols, z0)
 
     @property
     def n(self) -> int:
@@ -106,6 +108,10 @@ class ClosureEquations:
         """Centre of a joint (on its first link), normalised."""
         j = self.mechanism.joint(joint)
         return self.point(x, j.links[0], self.centres[joint])
+
+    def in_file_units(self, z: complex) -> complex:
+        """A normalised position in the file's coordinates."""
+        return self.origin + z * self.size
 
     def residual_blocks(self, x: FloatArray) -> list[tuple[str, FloatArray]]:
         """Residual of each joint constraint, labelled by joint id (2 or 1 rows each)."""

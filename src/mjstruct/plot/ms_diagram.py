@@ -148,27 +148,18 @@ def plot_singular_zones(
     import matplotlib.pyplot as plt
     from matplotlib.patches import Wedge
 
-    from mjstruct.kinematics.singular_curve import ClosureEquations, trace_component
+    from mjstruct.kinematics.singular_curve import ClosureEquations
 
     if ax is None:
         fig, ax = plt.subplots(figsize=(7.0, 5.0))
     else:
         fig = ax.figure  # type: ignore[assignment]
     eq = ClosureEquations.build(mechanism, analysis.input, analysis.output)
-    branches, bifs = trace_component(eq, eq.reference())
-    points: list[Any] = [b.x for b in bifs] + [x for br in branches for x in br.x]
     m = mechanism
     colours = plt.get_cmap("tab10")
-    size = eq.size
     for k, p in enumerate(analysis.singular):
-        # the configuration: the traced point with this q and output angle
-        def miss(x: Any, p: Any = p) -> float:
-            return abs(math.remainder(eq.input(x)[0] - p.q, 2 * math.pi)) + abs(
-                math.remainder(eq.output_angle(x) - p.output_angle, 2 * math.pi)
-            )
-
-        x = min(points, key=miss)
-        pos = {j.id: eq.joint_position(x, j.id) * size for j in m.joints}
+        x = np.array(p.configuration)
+        pos = {j.id: eq.in_file_units(eq.joint_position(x, j.id)) for j in m.joints}
         c = colours(k % 10)
         for link in m.links:
             if link == m.frame:
