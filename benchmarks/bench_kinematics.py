@@ -71,7 +71,7 @@ def main() -> None:
     a, b, c, d = abs(A0 - O1), abs(B0 - A0), abs(B0 - O2), abs(O2 - O1)
     mode = 1 if ((B0 - A0) * (O2 - A0).conjugate()).imag >= 0 else -1
 
-    ev = evaluate(p, g, m, q, order=2)
+    ev = evaluate(model, q, order=2)
     ref = four_bar_closed_form(q[:, 0], a, b, c, d, mode)
     Bk = ev.centre("B")
     agree = max(
@@ -83,7 +83,7 @@ def main() -> None:
     t_closed, t_eval, t_sweep, t_full = race(
         [
             lambda: four_bar_closed_form(q[:, 0], a, b, c, d, mode),
-            lambda: evaluate(p, g, m, q, order=2),
+            lambda: evaluate(model, q, order=2),
             lambda: kinematic_analysis(model, frames=FRAMES, checks=False),
             lambda: kinematic_analysis(m, frames=FRAMES, checks=False),
         ],
@@ -129,7 +129,7 @@ def main() -> None:
         print(f"pylinkage {getattr(pl, '__version__', '?')}: API not recognised, not timed")
         return
     t_pl, diff = got
-    t_pos = median_time(lambda: evaluate(p, g, m, q, order=0), R)[0]
+    t_pos = median_time(lambda: evaluate(model, q, order=0), R)[0]
     print(
         f"pylinkage {getattr(pl, '__version__', '?')}, same four-bar, positions only "
         f"(max |B - ours| {diff:.1e})"

@@ -65,10 +65,10 @@ class Closure:
     jumps: tuple[int, ...] = ()
 
 
-def _jacobian(
-    model: KinematicModel, q: FloatArray, t: FloatArray, K: Modes | None
+def closure_jacobian(
+    model: KinematicModel, q: FloatArray, t: FloatArray, K: Modes | None = None
 ) -> tuple[FloatArray, FloatArray]:
-    """Residuals R (F, e) and the analytic Jacobian dR/dt (F, e, k)."""
+    """Residuals R (F, e) and the analytic Jacobian dR/dt (F, e, k) at unknowns ``t``."""
     F, k = t.shape
     cols = []
     R = None
@@ -116,7 +116,7 @@ def newton(
     for it in range(1, maxiter + 1):  # noqa: B007 - the count is reported
         idx = np.flatnonzero(active)
         Ki = _subset_modes(K, idx)
-        R, J = _jacobian(model, q[idx], t[idx], Ki)
+        R, J = closure_jacobian(model, q[idx], t[idx], Ki)
         e = np.abs(R).max(axis=1) / scale
         err[idx] = e
         done = e <= tol
@@ -322,7 +322,7 @@ def _tangent(
     rate: FloatArray,
 ) -> FloatArray:
     """dt/dτ for dq/dτ = rate, from the differentiated closure equations."""
-    _, J = _jacobian(model, q, t, K)
+    _, J = closure_jacobian(model, q, t, K)
     ev = evaluate(model, q, order=1, rates=rate, t=t, K=K)
     return -_solve(J, ev.residual_matrix(1))
 
@@ -335,7 +335,7 @@ def derivatives(
     K: Modes | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """t' and t'' along the path: ``R_t t' = -R_q q'`` then ``R_t t'' = -R''|_{t''=0}``."""
-    _, J = _jacobian(model, q, t, K)
+    _, J = closure_jacobian(model, q, t, K)
     ev = evaluate(model, q, order=1, rates=rate, t=t, K=K)
     t1 = -_solve(J, ev.residual_matrix(1))
     ev = evaluate(model, q, order=2, rates=rate, t=t, t1=t1, K=K)

@@ -21,7 +21,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -37,18 +37,51 @@ IntArray = npt.NDArray[np.int_]
 
 @dataclass(frozen=True)
 class JacobianCheck:
-    """J over the frames (F × Nu × 3Ns), its rank per frame, and the driver-fixed det."""
+    """The Jacobian's rank per frame and its determinant with the drivers fixed.
+
+    Attributes
+    ----------
+    J : the constraint Jacobian at the frames it was built on (``frames``), shape
+        (len(frames), Nu, 3Ns); only a few frames unless it was built everywhere.
+    rank : rank of J per frame (-1: not examined).
+    det : determinant with the drivers fixed per frame (nan: undefined or not square).
+    equations, coordinates : Nu and 3Ns.
+    frames : the frames ``J`` holds.
+    factor_error : when the determinant over all frames is the product of the plan's
+        group determinants scaled by one constant, the largest relative disagreement
+        of that product with the direct determinant on the frames built (None: the
+        determinant was computed directly on every frame).
+    """
 
     J: FloatArray
     rank: IntArray
     det: FloatArray
     equations: int
     coordinates: int
+    frames: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int_))
+    factor_error: float | None = None
+    log_abs_det: FloatArray | None = None
+
+    @property
+    def log_det(self) -> FloatArray:
+        """log |det| per frame (kept apart from ``det``, which may overflow)."""
+        if self.log_abs_det is not None:
+            return self.log_abs_det
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.asarray(np.log(np.abs(self.det)), dtype=np.float64)
 
     @property
     def shape(self) -> tuple[int, ...]:
-        """(frames, equations, coordinates)."""
+        """(frames built, equations, coordinates)."""
         return tuple(self.J.shape)
+
+
+def poses_at(poses: dict[str, Pose], idx: npt.NDArray[np.intp]) -> dict[str, Pose]:
+    """The poses restricted to the frames ``idx``."""
+    return {
+        x: Pose(p.zA, [a[idx] for a in p.A], p.r[idx], [w[idx] for w in p.w])
+        for x, p in poses.items()
+    }
 
 
 def reference_poses(m: Mechanism) -> dict[str, Pose]:
@@ -152,33 +185,159 @@ def check_jacobian(
     poses: dict[str, Pose],
     drivers: tuple[str, ...],
     sample: int = 360,
+    factor: tuple[FloatArray, FloatArray] | None = None,
 ) -> JacobianCheck:
     """Rank of J and the determinant with the drivers fixed (nan where undefined).
 
-    The determinant is computed on every frame; the rank (an SVD per frame) on at most
-    ``sample`` evenly spread frames plus every frame where the determinant is small or
-    undefined, since the rank can only drop where the determinant does (rank is -1 on
-    frames not examined).
+    Without ``factor`` the determinant is computed on every frame and the rank (an
+    SVD per frame) on at most ``sample`` evenly spread frames plus every frame where
+    the determinant is small or undefined, since the rank can only drop where the
+    determinant does (rank is -1 on frames not examined).  The frames are taken in
+    chunks, so memory stays within :data:`MEMORY_BUDGET` bytes of matrices.
+
+    With ``factor`` = (sign, log |.|) per frame of the product of the plan's group
+    determinants (see :func:`mjstruct.kinematics.checks.plan_determinant`), J is built
+    on a few frames only: the determinant there fixes the constant between the two,
+    the determinant on every frame is that constant times the product (its accuracy
+    measured on the frames built: ``factor_error``), the rank is full wherever the
+    determinant is not small, and an SVD decides the rest (at most ``sample`` frames,
+    smallest |det| first, within the memory budget).  When the product does not hold
+    (not a square system, or a disagreement above :data:`FACTOR_AGREES`) every frame
+    is computed directly, as without ``factor``.
     """
-    J, D = constraint_jacobian(m, geom, poses, drivers)
-    F, nu, nc = J.shape
-    finite = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(D).all(axis=(1, 2))
-    rank = np.full(F, -1)
+    F = next(iter(poses.values())).r.shape[0]
+    finite = np.ones(F, bool)
+    for p in poses.values():
+        finite &= np.isfinite(p.r) & np.isfinite(p.A[0])
+    if factor is not None and finite.any():
+        got = _factored(m, geom, poses, drivers, sample, factor, finite)
+        if got is not None:
+            return got
+    return _direct(m, geom, poses, drivers, sample, finite)
+
+
+#: bytes of Jacobian matrices held at once (frames are taken in chunks within it)
+MEMORY_BUDGET = 64 * 2**20
+#: frames on which the constant between det J and the plan's product is measured
+CALIBRATION_FRAMES = 5
+#: the product stands in for det J when it agrees to this (relative) on those frames
+FACTOR_AGREES = 1e-6
+
+
+def _sizes(m: Mechanism, drivers: tuple[str, ...]) -> tuple[int, int]:
+    """(Nu, 3Ns): constraint equations and link coordinates."""
+    nu = sum(2 * (len(j.links) - 1) if j.kind == "R" else 2 for j in m.joints)
+    return nu, 3 * (len(m.links) - 1)
+
+
+def _chunk(nu: int, nc: int) -> int:
+    return max(1, MEMORY_BUDGET // (8 * max(1, (nu + 1) * nc)))
+
+
+def _ranks(J: FloatArray, nu: int, nc: int) -> IntArray:
+    if J.shape[0] == 0:
+        return np.zeros(0, dtype=np.int_)
+    sv = np.linalg.svd(J, compute_uv=False)
+    tol = sv.max(axis=1, keepdims=True) * max(nu, nc) * RANK_RTOL
+    return np.asarray((sv > tol).sum(axis=1), dtype=np.int_)
+
+
+def _direct(
+    m: Mechanism,
+    geom: Geometry,
+    poses: dict[str, Pose],
+    drivers: tuple[str, ...],
+    sample: int,
+    finite: npt.NDArray[np.bool_],
+) -> JacobianCheck:
+    """Determinant on every frame, rank on a sample and where the determinant is small."""
+    F = finite.size
+    nu, nc = _sizes(m, drivers)
+    square = nu + len(drivers) == nc
+    step = _chunk(nu, nc)
     det = np.full(F, np.nan)
-    if finite.any():
-        A = np.concatenate([J[finite], D[finite]], axis=1)
-        if A.shape[1] == A.shape[2]:
-            det[finite] = np.linalg.det(A)
-        a = np.abs(det)
-        top = np.nanmax(a) if np.isfinite(a).any() else np.nan
-        look = np.zeros(F, bool)
-        look[np.linspace(0, F - 1, min(F, sample)).astype(int)] = True
-        look |= ~(a >= NEAR_SINGULAR * top)  # small or undefined determinant
-        look &= finite
-        sv = np.linalg.svd(J[look], compute_uv=False)
-        tol = sv.max(axis=1, keepdims=True) * max(nu, nc) * RANK_RTOL
-        rank[look] = (sv > tol).sum(axis=1)
-    return JacobianCheck(J, rank, det, nu, nc)
+    idx = np.flatnonzero(finite)
+    if square:
+        for lo in range(0, idx.size, step):
+            part = idx[lo : lo + step]
+            J, D = constraint_jacobian(m, geom, poses_at(poses, part), drivers)
+            det[part] = np.linalg.det(np.concatenate([J, D], axis=1))
+    a = np.abs(det)
+    top = np.nanmax(a) if np.isfinite(a).any() else np.nan
+    look = np.zeros(F, bool)
+    look[np.linspace(0, F - 1, min(F, sample)).astype(int)] = True
+    look |= ~(a >= NEAR_SINGULAR * top)  # small or undefined determinant
+    look &= finite
+    rank = np.full(F, -1)
+    kept: list[FloatArray] = []
+    where = np.flatnonzero(look)
+    for lo in range(0, where.size, step):
+        part = where[lo : lo + step]
+        J, _ = constraint_jacobian(m, geom, poses_at(poses, part), drivers)
+        rank[part] = _ranks(J, nu, nc)
+        if sum(k.shape[0] for k in kept) < step:
+            kept.append(J[: step - sum(k.shape[0] for k in kept)])
+    J = np.concatenate(kept) if kept else np.zeros((0, nu, nc))
+    return JacobianCheck(J, rank, det, nu, nc, where[: J.shape[0]])
+
+
+def _factored(
+    m: Mechanism,
+    geom: Geometry,
+    poses: dict[str, Pose],
+    drivers: tuple[str, ...],
+    sample: int,
+    factor: tuple[FloatArray, FloatArray],
+    finite: npt.NDArray[np.bool_],
+) -> JacobianCheck | None:
+    """The determinant from the plan's product, J on a few frames; None if it fails."""
+    sign, logf = factor
+    F = logf.shape[0]
+    nu, nc = _sizes(m, drivers)
+    if nu + len(drivers) != nc:
+        return None  # not square: redundant constraints or a wrong driver count
+    ok = finite & np.isfinite(logf) & (sign != 0)
+    if not ok.any():
+        return None
+    # calibrate on well-conditioned frames spread over the motion
+    good = np.flatnonzero(ok & (logf >= logf[ok].max() - np.log(2.0)))
+    cal = good[np.linspace(0, good.size - 1, min(good.size, CALIBRATION_FRAMES)).astype(int)]
+    cal = np.unique(cal)
+    J, D = constraint_jacobian(m, geom, poses_at(poses, cal), drivers)
+    s_dir, l_dir = np.linalg.slogdet(np.concatenate([J, D], axis=1))
+    if not (np.isfinite(l_dir).all() and (s_dir != 0).all()):
+        return None
+    log_c = l_dir - logf[cal]
+    sign_c = s_dir * sign[cal]
+    err = float(np.abs(np.expm1(log_c - np.median(log_c))).max())
+    if not (err <= FACTOR_AGREES and (sign_c == sign_c[0]).all()):
+        return None
+    logdet = np.where(finite, float(np.median(log_c)) + logf, np.nan)
+    with np.errstate(over="ignore", under="ignore"):
+        det = np.where(finite, sign_c[0] * sign * np.exp(logdet), np.nan)
+    top = float(np.nanmax(logdet))
+    rank = np.full(F, -1)
+    strong = finite & (logdet >= top + np.log(NEAR_SINGULAR))
+    rank[strong] = nu  # a nonzero determinant of [J; D]: the rows of J are independent
+    weak = np.flatnonzero(finite & ~strong)
+    limit = min(sample, _chunk(nu, nc))
+    weak = np.sort(
+        weak[np.argsort(np.nan_to_num(logdet[weak], nan=-np.inf), kind="stable")][:limit]
+    )
+    Jw, _ = constraint_jacobian(m, geom, poses_at(poses, weak), drivers)
+    rank[weak] = _ranks(Jw, nu, nc)
+    keep = np.concatenate([cal, weak])
+    order = np.argsort(keep, kind="stable")
+    return JacobianCheck(
+        np.concatenate([J, Jw])[order],
+        rank,
+        det,
+        nu,
+        nc,
+        keep[order],
+        factor_error=err,
+        log_abs_det=logdet,
+    )
 
 
 def jacobian_at_reference(m: Mechanism) -> JacobianCheck:

@@ -86,7 +86,7 @@ def kinematic_analysis(
     warnings += _infeasible(result)
     result.warnings = warnings
     if checks:
-        run_checks(result, motion.evaluation)
+        run_checks(result, motion)
     return result
 
 
