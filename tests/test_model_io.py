@@ -231,3 +231,36 @@ def test_any_value_in_any_field_is_an_answer_or_bad_input(tmp_path_factory, wher
     assert err.getvalue().count("\n") == (status == 2)
     if status == 0 and command != "iso":
         json.loads(out.getvalue(), parse_constant=lambda c: pytest.fail(f"{c} in JSON"))
+
+
+@pytest.mark.parametrize(
+    ("call", "parameter"),
+    [
+        (lambda mj, m: mj.assur_groups(m, "O1"), "drivers"),
+        (lambda mj, m: mj.assur_groups("four-bar.json"), "m"),
+        (lambda mj, m: mj.canonical_code(m, "bogus"), "level"),
+        (lambda mj, m: mj.is_isomorphic(m, None), "b"),
+        (lambda mj, m: mj.driver_choices(m, count="2"), "count"),
+        (lambda mj, m: mj.structural_report(None), "m"),
+        (lambda mj, m: mj.generic_mobility(3), "m"),
+        (lambda mj, m: mj.atlas("1", 8), "F"),
+        (lambda mj, m: mj.atlas(1, 8.0), "n"),
+        (lambda mj, m: mj.lookup("x"), "m"),
+        (lambda mj, m: mj.parse_code(None), "code"),
+        (lambda mj, m: mj.Mechanism.build(None), "joints"),
+        (lambda mj, m: mj.Mechanism.build([("a", 5)]), "joints[0].links"),
+        (lambda mj, m: mj.read_mechanism(None), "path"),
+        (lambda mj, m: mj.cells("3"), "kmax"),
+        (lambda mj, m: mj.loop_assortment("x"), "m"),
+        (lambda mj, m: mj.pebble_rank(None), "m"),
+        (lambda mj, m: mj.code_report(5), "code"),
+    ],
+)
+def test_public_functions_name_the_parameter_on_wrong_types(call, parameter):
+    import mjstruct
+    from mjstruct.errors import MechanismError
+
+    m = mechanism_from_dict(FOUR_BAR)
+    with pytest.raises(MechanismError) as info:
+        call(mjstruct, m)
+    assert str(info.value).startswith(parameter + ": ")

@@ -61,6 +61,8 @@ def read_mechanism(path: str | Path, max_bytes: int | None = None) -> Mechanism:
     (default :data:`MAX_FILE_BYTES`): a device, a FIFO or a directory, or a larger
     file, is refused before anything is read.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise MechanismError(f"path: expected a file name, got {type(path).__name__}")
     limit = _byte_limit(max_bytes)
     if str(path) == "-":
         data = sys.stdin.buffer.read(limit + 1)

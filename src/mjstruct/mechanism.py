@@ -95,9 +95,17 @@ class Mechanism:
         name: str = "",
     ) -> Mechanism:
         """Build from ``(id, links[, kind])`` tuples; links are listed in first-seen order."""
+        if isinstance(joints, (str, bytes)) or not isinstance(joints, Iterable):
+            raise MechanismError(f"joints: expected (id, links[, kind]) tuples, got {joints!r}")
+        if isinstance(drivers, str):
+            raise MechanismError(f"drivers: expected a list of joint ids, got {drivers!r}")
         js = []
         order: dict[str, None] = {}
-        for spec in joints:
+        for k, spec in enumerate(joints):
+            if isinstance(spec, (str, bytes)) or not isinstance(spec, Sequence) or len(spec) < 2:
+                raise MechanismError(f"joints[{k}]: expected (id, links[, kind]), got {spec!r}")
+            if isinstance(spec[1], (str, bytes)) or not isinstance(spec[1], Iterable):
+                raise MechanismError(f"joints[{k}].links: expected a list of link ids")
             jid, links = spec[0], spec[1]
             kind = spec[2] if len(spec) > 2 else "R"
             ls = tuple(str(x) for x in links)

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure import mobility as mob
 from mjstruct.structure.assortments import Assortment, assortment, simple_joint_count
@@ -152,6 +153,7 @@ def _fill(r: StructuralReport, K: Fraction) -> StructuralReport:
 
 def structural_report(m: Mechanism, lam: int = 3, with_loops: bool = True) -> StructuralReport:
     """Every structural quantity of ``m`` (frame and drivers used for N and rc only)."""
+    expect_mechanism(m)
     from mjstruct.structure.isomorphism import canonical_code
 
     a = assortment(m)

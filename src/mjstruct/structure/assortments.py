@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 
@@ -93,6 +94,7 @@ def simple_joint_count(m: Mechanism) -> int:
 
 def assortment(m: Mechanism) -> Assortment:
     """The code-level view of ``m``."""
+    expect_mechanism(m)
     degrees = [len(v) for v in m.link_joints.values()]
     return Assortment(
         LA=tuple(link_assortment(m)),

@@ -82,6 +82,8 @@ def parse_code(code: str) -> Assortment:
     A bare V does not say which multiplicities make it up; ``[LA]/V`` is read as V
     joints of multiplicity 2, which gives the same K, F, S_L and rc.
     """
+    if not isinstance(code, str):
+        raise MechanismError(f"code: expected a string such as '[4 2]/0', got {code!r}")
     m = re.fullmatch(r"\s*\[([^\]]*)\]\s*/\s*(\[([^\]]*)\]|\d+)\s*", code)
     if not m:
         raise MechanismError(f"code: {code!r} is not of the form [LA]/V or [LA]/[MJA]")

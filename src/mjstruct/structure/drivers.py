@@ -141,6 +141,8 @@ def validate_drivers(
     ...
     mjstruct.errors.MechanismError: drivers: ... under-driven (1 DOF left ...); generic F = 2, ...
     """
+    if isinstance(drivers, str) or not (drivers is None or isinstance(drivers, Iterable)):
+        raise MechanismError(f"drivers: expected a list of joint ids, got {drivers!r}")
     out = tuple(m.drivers if drivers is None else drivers)
     known = {j.id for j in m.joints}
     seen: set[str] = set()

@@ -30,6 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assortments import simple_joint_count
 from mjstruct.structure.drivers import play_with_drivers
@@ -118,6 +119,7 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
     second link to its first, ``redundant_drivers`` are those bars the game rejects and
     ``free_links`` the links still movable with the drivers held.
     """
+    expect_mechanism(m)
     index = {x: k for k, x in enumerate(m.links)}
     joints = chain_joints(m, index)
     game, _, res = play_chain(m.links, joints)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 
@@ -42,6 +43,7 @@ class IncidenceMatrix:
 
 def incidence_matrix(m: Mechanism) -> IncidenceMatrix:
     """Signed incidence of links and simple-joint equivalents (rows in ``m.links`` order)."""
+    expect_mechanism(m)
     row = {link: i for i, link in enumerate(m.links)}
     cols: list[tuple[str, str, int, int]] = []  # name, joint, carrier row, other row
     for j in m.joints:

@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 
@@ -54,6 +55,7 @@ def mj_link_sets(m: Mechanism) -> tuple[tuple[int, ...], ...]:
 
 def seed_invariants(m: Mechanism) -> SeedInvariants:
     """[LA], [MJA], [L] (sorted face sizes, outer face included) and the MJ link sets."""
+    expect_mechanism(m)
     from mjstruct.structure.assortments import link_assortment, mj_assortment
     from mjstruct.structure.loops import loop_assortment
 

@@ -26,6 +26,7 @@ from typing import Literal
 
 import pynauty
 
+from mjstruct.errors import MechanismError, expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 Level = Literal["chain", "kinds", "mechanism"]
@@ -79,7 +80,7 @@ def colour_classes(m: Mechanism, level: str) -> list[list[int]]:
     if level == "chain":
         return [list(range(n)), list(range(n, n + len(m.joints)))]
     if level not in ("kinds", "mechanism"):
-        raise ValueError(f"level must be one of {LEVELS}, got {level!r}")
+        raise MechanismError(f"level: must be one of {', '.join(LEVELS)}, got {level!r}")
     mech = level == "mechanism"
     frame = [link_ix[m.frame]] if mech and m.frame is not None else []
     others = [i for i in range(n) if i not in frame]
@@ -109,6 +110,7 @@ def canonical_code(m: Mechanism, level: Level = "chain") -> str:
     ``"chain"``: links and joints only (what structural synthesis and the catalogs
     use); ``"kinds"``: also R/P; ``"mechanism"``: also frame and drivers.
     """
+    expect_mechanism(m)
     classes = colour_classes(m, level)
     g = nauty_graph(len(m.links), link_joint_lists(m), classes)
     sizes = ".".join(str(len(c)) for c in classes)
@@ -118,4 +120,6 @@ def canonical_code(m: Mechanism, level: Level = "chain") -> str:
 
 def is_isomorphic(a: Mechanism, b: Mechanism, level: Level = "chain") -> bool:
     """Exact isomorphism test at the given colour level."""
+    expect_mechanism(a, "a")
+    expect_mechanism(b, "b")
     return canonical_code(a, level) == canonical_code(b, level)

@@ -34,6 +34,7 @@ from collections.abc import Hashable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 Adjacency = Mapping[Any, Sequence[Any]]
@@ -51,6 +52,7 @@ class LoopAssortment:
 
 def is_planar(m: Mechanism) -> bool:
     """Whether the link–joint graph has a planar drawing."""
+    expect_mechanism(m)
     import networkx as nx
 
     return bool(nx.check_planarity(m.graph())[0])
@@ -162,6 +164,7 @@ def _canonical_faces(m: Mechanism) -> tuple[int, ...] | None:
 
 def loop_assortment(m: Mechanism) -> LoopAssortment | None:
     """[L] of a planar chain (see the module text for which drawing); None if not planar."""
+    expect_mechanism(m)
     try:
         exact = _minimal_faces(m.adjacency)
     except _TooMany:

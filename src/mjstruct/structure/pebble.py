@@ -39,6 +39,7 @@ import itertools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 BODY_PEBBLES = 3  # planar rigid body: x, y, angle
@@ -274,6 +275,7 @@ def rigidity(m: Mechanism) -> RigidityResult:
     >>> r.dof, r.redundant, r.regions
     (0, ('C',), ((('0', '1', '2', '3'), 1),))
     """
+    expect_mechanism(m)
     index = {x: k for k, x in enumerate(m.links)}
     return play_chain(m.links, chain_joints(m, index))[2]
 
@@ -290,6 +292,7 @@ def generic_dof(m: Mechanism) -> int:
 
 def rigid_components(m: Mechanism, min_links: int = 2) -> list[tuple[str, ...]]:
     """Maximal rigid sub-chains with at least ``min_links`` links (drivers ignored)."""
+    expect_mechanism(m)
     index = {x: k for k, x in enumerate(m.links)}
     joints = chain_joints(m, index)
     game, _, _ = play_chain(m.links, joints)

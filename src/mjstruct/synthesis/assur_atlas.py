@@ -30,7 +30,7 @@ from typing import Any
 
 import pynauty
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_int
 from mjstruct.structure.isomorphism import nauty_graph
 from mjstruct.structure.mobility import rigid_pair_count
 from mjstruct.synthesis.contracted import Vertex, contracted_graphs, degree_sequences
@@ -126,6 +126,8 @@ def assur_atlas(
     Refuses (``MechanismError``) when about more than ``limit`` groups are expected
     (None: no limit).
     """
+    expect_int(n, "n")
+    expect_int(workers, "workers")
     from mjstruct.mechanism import Mechanism
     from mjstruct.structure.assur import group_class
     from mjstruct.structure.isomorphism import canonical_code

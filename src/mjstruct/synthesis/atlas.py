@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 import pynauty
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_int
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.isomorphism import code_of, nauty_graph
 from mjstruct.synthesis.contracted import (
@@ -373,6 +373,9 @@ def atlas(
         Refuse (``MechanismError``) when about more chains than this are expected
         (:func:`mjstruct.synthesis.job_size.chain_count_estimate`); None: no limit.
     """
+    expect_int(F, "F", 0)
+    expect_int(n, "n")
+    expect_int(workers, "workers")
     if n < 1:
         raise MechanismError(f"n: need at least one link, got {n}")
     if workers < 1:

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 
 # (F, n) shipped: F = 1 up to 10 links, F = 2 up to 9 links
@@ -300,6 +301,7 @@ class LookupResult:
 
 def lookup(m: Mechanism) -> LookupResult:
     """Find the chain of ``m`` in the shipped catalogs by its chain-level canonical code."""
+    expect_mechanism(m)
     from mjstruct.structure.assortments import simple_joint_count
     from mjstruct.structure.isomorphism import canonical_code
     from mjstruct.structure.mobility import dof_grubler

@@ -24,6 +24,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from mjstruct.errors import expect_int
 from mjstruct.structure.mobility import link_count
 
 
@@ -58,6 +59,7 @@ def mj_assortments(K: int, V: int) -> tuple[tuple[int, ...], ...]:
 
 def cells(kmax: int) -> list[Cell]:
     """All cells (K, V) with 2 <= K <= kmax and 1 <= V <= 2(K - 1)."""
+    expect_int(kmax, "kmax")
     return [
         Cell(K, V, mj_assortments(K, V)) for K in range(2, kmax + 1) for V in range(1, 2 * K - 1)
     ]
@@ -105,6 +107,9 @@ def code_counts(
     it, else enumerates with :func:`mjstruct.synthesis.atlas.atlas` (``mj=True``).
     ``with_sj`` adds the simple-joint rows (V = 0).
     """
+    expect_int(F, "F", 0)
+    expect_int(kmax, "kmax")
+    expect_int(workers, "workers", 1)
     out = []
     for K in range(2, kmax + 1):
         n = link_count(F, K)

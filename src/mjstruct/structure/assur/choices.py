@@ -11,7 +11,7 @@ from __future__ import annotations
 import itertools
 from math import comb
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_int, expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur.decomposition import assur_groups
 from mjstruct.structure.assur.results import DriverChoice
@@ -46,6 +46,9 @@ def driver_choices(
     >>> [(c.drivers, c.status, c.mechanism_class) for c in driver_choices(m)]
     [(('O1',), 'ok', 2), (('O2',), 'ok', 2)]
     """
+    expect_mechanism(m)
+    if count is not None:
+        expect_int(count, "count", 0)
     if m.frame is None:
         raise MechanismError("frame: choosing drivers needs a frame link")
     if count is None:

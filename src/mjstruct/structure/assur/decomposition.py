@@ -43,7 +43,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur.bodies import BodyModel, LevelJoint, link_key
 from mjstruct.structure.assur.contours import group_class
@@ -232,6 +232,7 @@ def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decompos
     >>> [(g.links, g.klass, g.order) for g in d.groups]
     [(('2', '3', '4', '5'), 4, 2)]
     """
+    expect_mechanism(m)
     if m.frame is None:
         raise MechanismError("frame: the decomposition needs a frame link")
     drivers = validate_drivers(m, drivers)
