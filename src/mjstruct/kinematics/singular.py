@@ -301,6 +301,12 @@ def singular_analysis(
         fb = fourbar_theory(l1 / l0, l2 / l0, l3 / l0)
     branches, bifs = trace_component(eq, eq.reference())
     warnings: list[str] = []
+    rows = eq.jacobian(eq.reference()).shape[0]
+    if rows != eq.n - 1:
+        warnings.append(
+            f"redundant constraints ({rows} equations for {eq.n - 1}): change points are "
+            "not searched (the bordered determinant needs a square system)"
+        )
     q_ref = eq.geometry.driver_ref[driver]
     revolute = m.joint(driver).kind == "R"
 
