@@ -415,8 +415,8 @@ def _near(eq: ClosureEquations, a: FloatArray, b: FloatArray, tol: float) -> boo
 
 
 def _tidy(v: float) -> float:
-    """Round-off below 1e-12 shown as zero."""
-    return 0.0 if abs(v) < 1e-12 else v
+    """Round-off below 1e-9 shown as zero (no "-0")."""
+    return 0.0 if abs(v) < 1e-9 else v
 
 
 def _fold_warning(eq: ClosureEquations, br: Branch, fold_in: bool, q0: float) -> str:
@@ -598,7 +598,7 @@ def render(r: SingularAnalysis) -> str:
     lines.append(head)
     for p in r.singular:
         lines.append(
-            f"  {p.kind:<15} {qs(p.q):>14} {math.degrees(p.output_angle):>12.6f}  "
+            f"  {p.kind:<15} {qs(p.q):>14} {_tidy(math.degrees(p.output_angle)):>12.6f}  "
             f"{' '.join(p.collinear) or '-'}"
         )
         for z in p.zone or ():
