@@ -37,7 +37,7 @@ from mjstruct.errors import MechanismError
 
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
-    from mjstruct.structure.pebble import PebbleGame
+    from mjstruct.structure.pebble import PebbleGame, RigidityResult
 
 
 @dataclass(frozen=True)
@@ -74,31 +74,51 @@ def driver_balance(m: Mechanism, drivers: Iterable[str]) -> DriverBalance:
     >>> b.redundant_drivers, b.dof_left
     (('A',), 0)
     """
-    return play_with_drivers(m, drivers)[2]
-
-
-def play_with_drivers(
-    m: Mechanism, drivers: Iterable[str]
-) -> tuple[PebbleGame, list[tuple[str, str, list[int]]], DriverBalance]:
-    """The game after the chain and the driver bars, its joints with the welds, the balance.
-
-    Bodies are the links in file order; a weld is ``(driver id, "weld", [a, b])``.
-    """
     from mjstruct.structure.pebble import chain_joints, play_chain
 
-    drivers = tuple(drivers)
     index = {x: k for k, x in enumerate(m.links)}
-    joints = chain_joints(m, index)
-    game, _, chain = play_chain(m.links, joints)
+    game, _, chain = play_chain(m.links, chain_joints(m, index))
+    return add_driver_bars(m, drivers, game, index, chain)[1]
+
+
+def add_driver_bars(
+    m: Mechanism,
+    drivers: Iterable[str],
+    game: PebbleGame,
+    index: dict[str, int],
+    chain: RigidityResult,
+) -> tuple[list[tuple[str, str, list[int]]], DriverBalance]:
+    """Add one bar per driver to ``game`` (played on the chain, bodies ``index``).
+
+    Returns the welds ``(driver id, "weld", [a, b])`` and the balance; ``chain`` is the
+    game's result on the chain alone.
+    """
+    drivers = tuple(drivers)
+    welds: list[tuple[str, str, list[int]]] = []
     redundant = []
     for d in drivers:
         a, b = (index[x] for x in m.joint(d).links[:2])
-        joints.append((d, "weld", [a, b]))
+        welds.append((d, "weld", [a, b]))
         if not game.add_edge(a, b):
             redundant.append(d)
     dof_left = chain.dof - (len(drivers) - len(redundant))
     balance = DriverBalance(drivers, chain.dof, tuple(redundant), dof_left, len(chain.redundant))
-    return game, joints, balance
+    return welds, balance
+
+
+def _checked_ids(m: Mechanism, drivers: Iterable[str] | None) -> tuple[str, ...]:
+    if isinstance(drivers, str) or not (drivers is None or isinstance(drivers, Iterable)):
+        raise MechanismError(f"drivers: expected a list of joint ids, got {drivers!r}")
+    out = tuple(m.drivers if drivers is None else drivers)
+    known = {j.id for j in m.joints}
+    seen: set[str] = set()
+    for d in out:
+        if not isinstance(d, str) or d not in known:
+            raise MechanismError(f"drivers: {d!r} is not a joint id")
+        if d in seen:
+            raise MechanismError(f"drivers: joint {d!r} is listed twice")
+        seen.add(d)
+    return out
 
 
 def validate_drivers(
@@ -141,19 +161,20 @@ def validate_drivers(
     ...
     mjstruct.errors.MechanismError: drivers: ... under-driven (1 DOF left ...); generic F = 2, ...
     """
-    if isinstance(drivers, str) or not (drivers is None or isinstance(drivers, Iterable)):
-        raise MechanismError(f"drivers: expected a list of joint ids, got {drivers!r}")
-    out = tuple(m.drivers if drivers is None else drivers)
-    known = {j.id for j in m.joints}
-    seen: set[str] = set()
-    for d in out:
-        if not isinstance(d, str) or d not in known:
-            raise MechanismError(f"drivers: {d!r} is not a joint id")
-        if d in seen:
-            raise MechanismError(f"drivers: joint {d!r} is listed twice")
-        seen.add(d)
     if not balance:
-        return out
+        return _checked_ids(m, drivers)
+    return checked_balance(m, drivers, mobility=mobility).drivers
+
+
+def checked_balance(
+    m: Mechanism, drivers: Iterable[str] | None = None, *, mobility: int | None = None
+) -> DriverBalance:
+    """:func:`validate_drivers` (with the balance), returning the :class:`DriverBalance`.
+
+    For callers that need the balance as well (the Assur decomposition reads the
+    chain's own redundant constraints from it).
+    """
+    out = _checked_ids(m, drivers)
     b = driver_balance(m, out)
     F = b.F_generic if mobility is None else mobility
     if not out and F > 0:
@@ -173,7 +194,7 @@ def validate_drivers(
             raise MechanismError(
                 f"drivers: with {', '.join(out)} the mechanism is under-driven ({why})"
             )
-        return out
+        return b
     parts = []
     if b.redundant_drivers:
         red = b.redundant_drivers
@@ -189,7 +210,7 @@ def validate_drivers(
             f"drivers: with {', '.join(out)} the mechanism is {' and '.join(parts)}; "
             f"generic F = {b.F_generic}, {_count(out)}"
         )
-    return out
+    return b
 
 
 def _count(drivers: tuple[str, ...]) -> str:

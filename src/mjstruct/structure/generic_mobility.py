@@ -33,7 +33,7 @@ from typing import Any
 from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assortments import simple_joint_count
-from mjstruct.structure.drivers import play_with_drivers
+from mjstruct.structure.drivers import add_driver_bars
 from mjstruct.structure.mobility import dof_grubler
 from mjstruct.structure.pebble import body_components, chain_joints, play_chain
 
@@ -137,9 +137,9 @@ def generic_mobility(m: Mechanism) -> GenericMobility:
     redundant_drivers: tuple[str, ...] = ()
     F_driven = None
     if m.frame is not None and m.drivers:
-        driven_game, welded, balance = play_with_drivers(m, m.drivers)
+        welds, balance = add_driver_bars(m, m.drivers, game, index, res)
         redundant_drivers, F_driven = balance.redundant_drivers, balance.dof_left
-        driven = body_components(driven_game, m.n, welded)
+        driven = body_components(game, m.n, joints + welds)
         home_k = next((c for c in driven if index[m.frame] in c), [index[m.frame]])
         free = tuple(x for x in m.links if index[x] not in home_k)
     return GenericMobility(

@@ -48,7 +48,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur.bodies import BodyModel, LevelJoint, link_key
 from mjstruct.structure.assur.contours import group_class
 from mjstruct.structure.assur.results import AssurGroup, Decomposition
-from mjstruct.structure.drivers import validate_drivers
+from mjstruct.structure.drivers import checked_balance
 from mjstruct.structure.pebble import PebbleGame, body_components, pin_edges
 
 
@@ -212,12 +212,6 @@ def _dependency_order(out: Sequence[Sequence[int]], skip: int) -> list[list[int]
     return [list(c) for c in nx.strongly_connected_components(g)]
 
 
-def structural_redundancy(model: BodyModel) -> int:
-    """Redundant constraints among the bodies (the chain's own; drivers are checked)."""
-    _, rejected = _game(list(range(len(model.bodies))), model.joints)
-    return rejected
-
-
 def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decomposition:
     """Initial mechanisms and minimal Assur groups in solving order.
 
@@ -235,9 +229,10 @@ def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decompos
     expect_mechanism(m)
     if m.frame is None:
         raise MechanismError("frame: the decomposition needs a frame link")
-    drivers = validate_drivers(m, drivers)
+    balance = checked_balance(m, drivers)
+    drivers = balance.drivers
     model = BodyModel(m, drivers)
-    redundant = structural_redundancy(model)
+    redundant = balance.structural_redundant
     if redundant:
         raise MechanismError(
             f"joints: the mechanism is over-constrained ({redundant} redundant "
