@@ -5,16 +5,22 @@ problem ``V(q) q̈ + W(q) q̇² = Q(q, q̇)`` (coefficients from
 :mod:`mjstruct.dynamics.time_terms`) solved by scipy's ``solve_ivp``, the stiffness
 test that chooses between an explicit and an implicit method, the analytic Jacobian
 given to the implicit one, and the error estimates; also the text and JSON that
-``mjstruct dynamics FILE --time T`` prints (:func:`time_report`, :func:`time_json`).
+``mjstruct dynamics FILE --time T`` prints (:func:`time_report`, :func:`time_json`,
+:func:`time_csv`, :func:`time_command`).
 
-The state is ``(q, q̇, w)`` with ``w = ∫ Q q̇ dt`` the work of the loads: the energy
-balance ``V q̇²/2 − T(0) − w`` is then a residual the solution must keep near zero.
+The state is ``(q, q̇, w)`` with ``w = ∫ Q q̇ dt`` the work of the loads, carried along
+without steering the step size: the energy balance ``V q̇²/2 − T(0) − w`` is then a
+residual that measures the steps taken.
 
 Stiffness ratio: ``S = max |∂q̈/∂q̇| · t_end``, the number of the fastest time
 constants of the speed (a steep torque–speed line makes ∂q̈/∂q̇ large) in the run.  An
-explicit method needs about ``S / 3`` steps for stability alone; above
-:data:`STIFF_RATIO` the implicit Radau method is used, with the Jacobian
-``[[0, 1], [∂q̈/∂q, ∂q̈/∂q̇]]``.
+explicit method needs of the order of ``S / 10`` steps for stability alone, whatever
+the tolerance.  ``auto`` uses Radau with the Jacobian ``[[0, 1], [∂q̈/∂q, ∂q̈/∂q̇]]``
+when the initial state gives ``S >`` :data:`STIFF_RATIO`; otherwise DOP853, watching
+``|∂q̈/∂q̇| · (t_end − t)`` at every step and going on with Radau from where it exceeds
+:data:`STIFF_RATIO` (a run-down into a steep friction law turns stiff near rest).
+The threshold is where the benchmark ``benchmarks/dynamics_run_up.py`` finds the two
+methods equally fast.
 
 Examples
 --------
@@ -57,7 +63,7 @@ SOLVERS = ("auto", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 EXPLICIT = ("RK45", "DOP853")
 
 #: stiffness ratio above which ``auto`` integrates implicitly
-STIFF_RATIO = 1e3
+STIFF_RATIO = 1e4
 
 #: the reference run's tolerance is this much tighter
 REFERENCE_FACTOR = 100.0
@@ -272,6 +278,7 @@ def motion_in_time(
     q0: float | None = None,
     qdot0: float = 0.0,
     frames: int = 201,
+    times: npt.ArrayLike | None = None,
     method: str = "auto",
     rtol: float = 1e-8,
     atol: float | None = None,
@@ -291,6 +298,7 @@ def motion_in_time(
     q0 : the initial driver coordinate (default: the reference configuration's).
     qdot0 : the initial speed (0: a run-up from rest).
     frames : output times, equally spaced over ``[0, t_end]`` (>= 2).
+    times : the output times instead (increasing, from 0 to ``t_end``).
     method : ``auto`` (explicit DOP853, or Radau when the stiffness ratio exceeds
         :data:`STIFF_RATIO`, switching to Radau where the rest of the run turns stiff), or
         one of ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``.
@@ -321,6 +329,17 @@ def motion_in_time(
         raise MechanismError(f"q0: must be finite, got {q0}")
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
         raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
+    out_times = np.linspace(0.0, float(t_end), int(frames))
+    if times is not None:
+        out_times = np.asarray(times, float).reshape(-1)
+        if not (
+            out_times.size >= 2
+            and np.isfinite(out_times).all()
+            and out_times[0] == 0.0
+            and out_times[-1] == t_end
+            and (np.diff(out_times) > 0).all()
+        ):
+            raise MechanismError("times: must increase from 0 to t_end (at least two values)")
     if method not in SOLVERS:
         raise MechanismError(f"method: unknown solver {method!r} (one of {', '.join(SOLVERS)})")
     if not (np.isfinite(rtol) and TIGHTEST <= rtol < 1):
@@ -375,7 +394,7 @@ def motion_in_time(
         )
     t_stop = path.t_stop
     stopped = "t_end"
-    times = np.linspace(0.0, float(t_end), int(frames))
+    times = out_times
     if seg[-1].ended_by == "rest":
         stopped = "rest"
         times = np.append(times[times < t_stop], t_stop)
@@ -568,3 +587,57 @@ def time_report(r: TimeMotion, rows: int = 11) -> str:
         )
     lines += [f"warning: {w}" for w in r.warnings]
     return "\n".join(lines)
+
+
+#: the ``mjstruct dynamics`` flag of each parameter of :func:`motion_in_time`
+FLAGS = {
+    "t_end": "--time",
+    "frames": "--frames",
+    "qdot0": "--start-speed",
+    "method": "--solver",
+    "rtol": "--rtol",
+    "drivers": "--drivers",
+}
+
+
+def time_command(
+    mechanism: Mechanism,
+    t_end: float,
+    *,
+    frames: int = 360,
+    start_speed: float | None = None,
+    solver: str | None = None,
+    rtol: float | None = None,
+    drivers: Iterable[str] | None = None,
+) -> TimeMotion:
+    """:func:`motion_in_time` for ``mjstruct dynamics FILE --time T``: errors name flags.
+
+    The arguments are the parsed flags (None: the default); a message naming a
+    parameter is rewritten to name its flag (``t_end: ...`` becomes ``--time: ...``).
+    """
+    try:
+        return motion_in_time(
+            mechanism,
+            t_end,
+            frames=frames,
+            qdot0=0.0 if start_speed is None else start_speed,
+            method="auto" if solver is None else solver,
+            rtol=1e-8 if rtol is None else rtol,
+            drivers=drivers,
+        )
+    except MechanismError as exc:
+        text = str(exc)
+        name = text.split(":", 1)[0]
+        if name in FLAGS:
+            raise MechanismError(FLAGS[name] + text[len(name) :]) from None
+        raise
+
+
+def time_csv(r: TimeMotion) -> str:
+    """One row per output time: ``t, q, qdot, qddot, V, Q, work`` (empty where not finite)."""
+    cols = [("t", r.t), ("q", r.q), ("qdot", r.qdot), ("qddot", r.qddot)]
+    cols += [("V", r.V), ("Q", r.Q), ("work", r.work)]
+    lines = [",".join(name for name, _ in cols)]
+    for row in zip(*(v for _, v in cols), strict=True):
+        lines.append(",".join(repr(float(x)) if np.isfinite(x) else "" for x in row))
+    return "\n".join(lines) + "\n"

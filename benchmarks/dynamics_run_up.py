@@ -1,0 +1,188 @@
+"""Run-up of a slider-crank driven by a motor's torque–speed line: error against run time.
+
+Explicit (RK45, DOP853) against implicit (Radau, BDF) integration of
+``V q̈ + W q̇² = Q(q, q̇)`` by :func:`mjstruct.dynamics.time.motion_in_time`, on a mildly
+stiff and a stiff run-up (the same mechanism and resistance, a steeper line), at
+tolerances 1e-3 … 1e-11.  The error is the largest difference of q over the output
+times against a Radau run at rtol 1e-13 (the same interpolated coefficients, so only
+the integrator's error is measured).  Times are medians (benchmarks/timing.py) of the
+whole call without the error estimate; the fixed set-up (coefficient table, load
+functions) is timed separately and printed.  A third, very stiff case (stiffness ratio
+above 1e6) is run with the implicit methods only; an explicit method would need at
+least S/3.3 steps there for stability alone.
+
+Run: ``python benchmarks/dynamics_run_up.py [--plot docs/img/dyn-time-error-vs-time.png]
+[--run-up-plot docs/img/dyn-time-run-up.png]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from typing import Any
+
+import numpy as np
+
+from mjstruct.catalog_files import example_path
+from mjstruct.dynamics.data import read_dynamics
+from mjstruct.dynamics.time import motion_in_time
+from mjstruct.dynamics.time_terms import reduced_equation
+from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
+from mjstruct.kinematics.model import KinematicModel
+from timing import median_time
+
+METHODS = ("RK45", "DOP853", "Radau", "BDF")
+TOLERANCES = (1e-3, 1e-5, 1e-7, 1e-9, 1e-11)
+T_END = 3.0
+FRAMES = 201
+W0 = 20.0  # the motor's no-load speed, rad/s
+LOG_TIMES = np.concatenate([[0.0], np.geomspace(1e-5, T_END, 400)])
+
+#: (name, stall torque M0): the line M = M0 (1 − q̇/ω0) is steeper for a larger M0
+CASES = (("mildly stiff", 8e3), ("stiff", 4e5), ("very stiff", 8e6))
+
+
+def model_for(M0: float) -> KinematicModel:
+    """Seed-000 slider-crank, motor line on the crank, viscous resistance 5 q̇ on the slider."""
+    d = mechanism_to_dict(read_mechanism(example_path("slider-crank-seed000-dynamics")))
+    d["loads"] = [
+        {"link": "1", "moment": f"{M0}*(1 - qdot/{W0})"},
+        {"link": "3", "force": ["-5*qdot", "0"]},
+    ]
+    d["parameters"] = {}
+    return KinematicModel.build(mechanism_from_dict(d))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--plot", help="write the log-log error-vs-time figure here")
+    ap.add_argument("--run-up-plot", help="write q̇(t) of the three run-ups here")
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+
+    motion_in_time(model_for(1.0), 0.01, estimate=False)  # imports and first calls
+    rows: list[dict[str, Any]] = []
+    curves: dict[str, Any] = {}
+    for case, M0 in CASES:
+        model = model_for(M0)
+        data = read_dynamics(model.mechanism)
+        t0 = time.perf_counter()
+        reduced_equation(model, data, {})
+        setup = time.perf_counter() - t0
+        ref = motion_in_time(
+            model, T_END, method="Radau", rtol=1e-13, estimate=False, frames=FRAMES
+        )
+        curves[case] = motion_in_time(model, T_END, method="Radau", rtol=1e-10, times=LOG_TIMES)
+        print(
+            f"\n{case}: M0 = {M0:g}, stiffness ratio S = {ref.stiffness_ratio:.3g} "
+            f"(explicit stability bound about {ref.stiffness_ratio / 3.3:.3g} steps); "
+            f"set-up (2048-point table, load functions) {setup * 1e3:.1f} ms; "
+            f"reference Radau rtol 1e-13: {ref.steps} steps"
+        )
+        print(
+            f"  {'method':7} {'rtol':>7} {'steps':>7} {'f evals':>8} {'jac':>5} "
+            f"{'time s':>8} {'error q':>9}"
+        )
+        methods = METHODS if case != "very stiff" else ("Radau", "BDF")
+        for method in methods:
+            for rtol in TOLERANCES:
+                repeat = (
+                    args.repeat
+                    if (case == "mildly stiff" or method not in ("RK45", "DOP853"))
+                    else 1
+                )
+
+                def run(method: str = method, rtol: float = rtol, model: Any = model) -> Any:
+                    return motion_in_time(
+                        model, T_END, method=method, rtol=rtol, estimate=False, frames=FRAMES
+                    )
+
+                sec, r = median_time(run, repeat=repeat)
+                err = float(np.max(np.abs(r.q - ref.q)))
+                rows.append(
+                    {
+                        "case": case,
+                        "method": method,
+                        "rtol": rtol,
+                        "time": sec,
+                        "error": err,
+                        "steps": r.steps,
+                        "nfev": r.rhs_evaluations,
+                    }
+                )
+                print(
+                    f"  {method:7} {rtol:7.0e} {r.steps:7d} {r.rhs_evaluations:8d} "
+                    f"{r.jacobian_evaluations:5d} {sec:8.3f} {err:9.2e}"
+                )
+        # ratios at the same tolerance, measured in this run
+        for rtol in (1e-5, 1e-9):
+            t = {x["method"]: x["time"] for x in rows if x["case"] == case and x["rtol"] == rtol}
+            if "DOP853" in t:
+                print(
+                    f"  rtol {rtol:.0e}: time DOP853 / Radau = {t['DOP853'] / t['Radau']:.2f}, "
+                    f"RK45 / Radau = {t['RK45'] / t['Radau']:.2f}, "
+                    f"BDF / Radau = {t['BDF'] / t['Radau']:.2f}"
+                )
+    if args.plot:
+        plot_errors(rows, args.plot)
+    if args.run_up_plot:
+        plot_run_up(curves, args.run_up_plot)
+
+
+def plot_errors(rows: list[dict[str, Any]], path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+
+    cases = [c for c, _ in CASES]
+    fig, axes = plt.subplots(1, len(cases), figsize=(4.2 * len(cases), 3.8), sharey=True)
+    style = {"RK45": "o--", "DOP853": "s--", "Radau": "^-", "BDF": "v-"}
+    colour = {"RK45": "C0", "DOP853": "C1", "Radau": "C2", "BDF": "C3"}
+    for ax, case in zip(axes, cases, strict=True):
+        for method in METHODS:
+            pts = [x for x in rows if x["case"] == case and x["method"] == method]
+            if not pts:
+                continue
+            ax.loglog(
+                [x["time"] for x in pts],
+                [max(x["error"], 1e-16) for x in pts],
+                style[method],
+                color=colour[method],
+                label=method,
+            )
+        ax.set_title(case)
+        ax.set_xlabel("run time, s")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("max |q − q_ref|, rad")
+    axes[0].legend()
+    fig.suptitle("Run-up of a slider-crank: error against run time (rtol 1e-3 … 1e-11)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
+def plot_run_up(curves: dict[str, Any], path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 3.6))
+    for case, r in curves.items():
+        ax.semilogx(r.t[1:], r.qdot[1:], label=f"{case} (S = {r.stiffness_ratio:.2g})")
+    ax.axhline(W0, color="k", lw=0.6, ls=":")
+    ax.set_xlabel("t, s (logarithmic: the run-up is fast, the motion after it slow)")
+    ax.set_ylabel("crank speed q̇, rad/s")
+    ax.set_title("Run-up from rest under a motor's torque–speed line")
+    ax.legend()
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
