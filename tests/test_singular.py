@@ -433,3 +433,24 @@ def test_library_raises_with_parameter_names():
         singular_analysis(m, clearance=-1)
     with pytest.raises(MechanismError, match=r"^output:"):
         singular_analysis(m, output="nope")
+
+
+def test_zone_drawing_has_one_wedge_per_zone():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.patches import Wedge
+
+    from mjstruct.plot.ms_diagram import ms_point, plot_ms_diagram, plot_singular_zones
+
+    m = read_mechanism(example_path("fourbar-ms4"))
+    r = singular_analysis(m, clearance=0.02)
+    fig = plot_singular_zones(m, r)
+    wedges = [p for p in fig.axes[0].patches if isinstance(p, Wedge)]
+    assert len(wedges) == sum(len(p.zone) for p in r.singular)
+    for w, z in zip(wedges, [z for p in r.singular for z in p.zone], strict=True):
+        assert w.theta2 - w.theta1 == pytest.approx(math.degrees(z.psi))
+    P = ms_point(m)
+    assert list(P) == pytest.approx([0.5, 1.0, 1.5])
+    fig2 = plot_ms_diagram(P[0], point=P[1:])
+    assert len(fig2.axes[0].lines) >= 3 + 4 + 1  # system (4), M1-M4, the mechanism
