@@ -95,9 +95,15 @@ def write_animation(
     def write(tmp: str) -> None:
         with writer.saving(fig, tmp, dpi):
             for done, k in enumerate(frames, 1):
-                ax.clear()
+                # remove the last frame's artists (cheaper than clearing the axes)
+                keep = set(map(id, ax.get_children()))
                 draw_scene(scene, k, ax=ax)
                 writer.grab_frame()
+                for a in ax.get_children():
+                    if id(a) not in keep:
+                        a.remove()
+                if ax.get_legend() is not None:
+                    ax.get_legend().remove()
                 if progress is not None:
                     progress(done, len(frames))
 

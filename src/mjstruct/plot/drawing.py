@@ -462,7 +462,17 @@ def draw_scene(
     _scale_bar(ax, scene)
     if title:
         name = m.name or "mechanism"
-        ax.set_title(f"{name}\nq = {_q_text(scene, k)}", fontsize=10)
+        # a text in axes coordinates: set_title costs a tight-bbox pass per frame
+        ax.text(
+            0.5,
+            1.0,
+            f"{name}\nq = {_q_text(scene, k)}",
+            transform=ax.transAxes,
+            ha="center",
+            va="bottom",
+            fontsize=10,
+            gid="title",
+        )
     return ax
 
 
@@ -546,7 +556,7 @@ def _link(ax: Axes, scene: Scene, link: str, at: dict[str, complex], colour: Any
         zorder=2,
         gid=f"link:{link}",
     )
-    ax.add_patch(poly)
+    ax.add_artist(poly)
 
 
 def _pin(ax: Axes, scene: Scene, joint: str, z: complex) -> None:
@@ -555,7 +565,7 @@ def _pin(ax: Axes, scene: Scene, joint: str, z: complex) -> None:
     j = scene.model.mechanism.joint(joint)
     r = scene.pin * (1.35 if j.is_multiple else 1.0)
     edge = DRIVER_COLOUR if joint in scene.model.drivers else "black"
-    ax.add_patch(
+    ax.add_artist(
         Circle(
             (z.real, z.imag),
             r,
@@ -581,7 +591,7 @@ def _ground(ax: Axes, scene: Scene, joint: str) -> None:
     c = scene.model.geometry.centres[joint]
     base = c - 3.2j * r
     tri = [c, base - 2.2 * r, base + 2.2 * r]
-    ax.add_patch(
+    ax.add_artist(
         Polygon(
             [(p.real, p.imag) for p in tri],
             closed=True,
@@ -596,7 +606,7 @@ def _ground(ax: Axes, scene: Scene, joint: str) -> None:
     for t in np.linspace(-3.0, 2.2, 6):
         a = base + t * r
         segs.append([(a.real, a.imag), (a.real - r, a.imag - 1.2 * r)])
-    ax.add_collection(
+    ax.add_artist(
         LineCollection(segs, colors=FRAME_COLOUR, lw=1.0, zorder=1.5, gid=f"ground:{joint}")
     )
 
@@ -619,7 +629,7 @@ def _guide(
             e = p + scene.pin * (n - u)
             segs.append([(p.real, p.imag), (e.real, e.imag)])
         segs.append([((a + off).real, (a + off).imag), ((b + off).real, (b + off).imag)])
-    ax.add_collection(
+    ax.add_artist(
         LineCollection(segs, colors=[colours[carrier]], lw=1.2, zorder=1.6, gid=f"guide:{joint}")
     )
 
@@ -638,7 +648,7 @@ def _block(
         c + s * half_l * u + t * half_w * n for s, t in ((-1, -1), (1, -1), (1, 1), (-1, 1))
     ]
     edge = DRIVER_COLOUR if joint in scene.model.drivers else "black"
-    ax.add_patch(
+    ax.add_artist(
         Polygon(
             [(p.real, p.imag) for p in corners],
             closed=True,
@@ -660,7 +670,7 @@ def _driver_marks(ax: Axes, scene: Scene, at: dict[str, complex], k: int) -> Non
         j = scene.model.mechanism.joint(d)
         if j.kind == "R":
             c = at[d]
-            ax.add_patch(
+            ax.add_artist(
                 Arc(
                     (c.real, c.imag),
                     6 * r,
@@ -680,7 +690,7 @@ def _driver_marks(ax: Axes, scene: Scene, at: dict[str, complex], k: int) -> Non
             u = complex(scene.model.geometry.axes[d] * scene.motion.evaluation.poses[carrier].r[k])
             c = at[f"{d}/block"] + 3.2 * r * 1j * u
             tail, tip = c - 3 * r * u, c + 3 * r * u
-        ax.add_patch(
+        ax.add_artist(
             FancyArrowPatch(
                 (tail.real, tail.imag),
                 (tip.real, tip.imag),

@@ -1,0 +1,77 @@
+"""Regenerate every image of docs/drawings.md (and the README picture) from the shipped
+examples: ``python docs/make_images.py`` (about half a minute).
+
+Each image is made through the same functions the ``draw``, ``animate``, ``plot`` and
+``atlas --draw`` commands call, so the pictures are what a user gets.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+
+from mjstruct.catalog_files import example_path
+from mjstruct.io import read_mechanism
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.plot.animation import write_animation
+from mjstruct.plot.atlas_sheet import write_atlas_sheet
+from mjstruct.plot.charts import draw_chart
+from mjstruct.plot.drawing import scene_at, scene_over_cycle, write_drawing
+from mjstruct.plot.files import write_atomically
+
+IMG = Path(__file__).resolve().parent / "img"
+
+
+def model(name: str, drivers: list[str] | None = None) -> KinematicModel:
+    return KinematicModel.build(read_mechanism(example_path(name)), drivers)
+
+
+def drawing(out: str, name: str, q: float | None = None, layers: tuple[str, ...] = (),
+            speed: float = 1.0) -> None:  # fmt: skip
+    write_drawing(scene_at(model(name), q, layers, speed=speed), str(IMG / out), dpi=90)
+
+
+def chart(out: str, name: str, what: str, speed: float = 1.0, frames: int = 360) -> None:
+    fig = draw_chart(model(name), what, frames=frames, speed=speed)
+    fig.tight_layout()
+    write_atomically(str(IMG / out), lambda tmp: fig.savefig(tmp, dpi=90))
+    plt.close(fig)
+
+
+def main() -> int:
+    start = time.perf_counter()
+    # the README picture: radial engine, Assur groups and velocity vectors
+    drawing("draw-radial-engine.png", "kin-radial-engine-5", 1.2, ("assur", "velocity"))
+    drawing("draw-slider-crank.png", "slider-crank", 1.0, ("velocity", "acceleration", "paths"))
+    drawing("draw-scotch-yoke.png", "scotch-yoke", 0.8, ("velocity",))
+    drawing("draw-zhivago.png", "zhivago", None, ("assur", "paths"))
+    drawing("draw-class-iv.png", "class-iv-seed003", None, ("assur", "velocity"))
+    drawing("draw-forces.png", "slider-crank-seed000-dynamics", 1.0,
+            ("loads", "inertia", "reactions"), speed=10.0)  # fmt: skip
+    scene = scene_over_cycle(model("kin-radial-engine-5"), 24, ("velocity",))
+    write_animation(scene, str(IMG / "anim-radial-engine.gif"), fps=12, dpi=45)
+    chart("chart-angles.png", "zhivago", "angles")
+    chart("chart-omega.png", "slider-crank", "omega", speed=10.0)
+    chart("chart-eps.png", "slider-crank", "eps", speed=10.0)
+    chart("chart-paths.png", "zhivago", "paths")
+    chart("chart-jacobian.png", "fourbar-ms2", "jacobian")
+    chart("chart-transmission.png", "four-bar", "transmission")
+    for what in ("V", "Q", "qdot", "reactions"):
+        chart(f"chart-{what}.png", "slider-crank-seed000-dynamics", what, speed=10.0, frames=180)
+    from mjstruct.synthesis.atlas import atlas
+
+    chains = atlas(1, 8, mj=True).chains
+    write_atlas_sheet(chains[12:30], str(IMG / "atlas-sheet.png"), title="F = 1, n = 8 (part)")
+    sys.stdout.write(f"images written to {IMG} in {time.perf_counter() - start:.1f} s\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
