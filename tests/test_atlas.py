@@ -393,22 +393,68 @@ def test_large_flag_and_library_limit():
 
 
 def test_workers_are_capped_at_the_core_count(monkeypatch):
-    import concurrent.futures
+    import multiprocessing
+    import multiprocessing.pool
 
     from mjstruct.synthesis import parallel
 
     seen = []
 
-    class Recorder(concurrent.futures.ThreadPoolExecutor):
-        def __init__(self, max_workers):
-            seen.append(max_workers)
-            super().__init__(max_workers=1)
+    class Recorder(multiprocessing.pool.ThreadPool):
+        def __init__(self, processes, initializer=None):
+            seen.append(processes)
+            super().__init__(1)
 
-    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", Recorder)
+    monkeypatch.setattr(multiprocessing, "Pool", Recorder)
     monkeypatch.setattr(parallel, "core_count", lambda: 2)
     assert list(parallel.run_tasks(abs, [-1, -2, -3], workers=1000)) == [1, 2, 3]
     assert seen == [2]
     assert parallel.core_count() >= 1
+
+
+def test_sigterm_stops_the_workers_too():
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    if parallel_cores() < 2:
+        pytest.skip("one core: no worker processes to leave behind")
+    job = subprocess.Popen(
+        [sys.executable, "-m", "mjstruct", "atlas", "--links", "12", "--mj", "--workers", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    children: list[int] = []
+    deadline = time.monotonic() + 30
+    while len(children) < 2 and time.monotonic() < deadline:
+        time.sleep(0.2)
+        path = f"/proc/{job.pid}/task/{job.pid}/children"
+        with open(path) as fh:
+            children = [int(x) for x in fh.read().split()]
+    assert len(children) >= 2, "the pool did not start"
+    job.send_signal(signal.SIGTERM)
+    _, err = job.communicate(timeout=30)
+    assert job.returncode == 143 and err.strip().endswith("mjstruct: terminated")
+    time.sleep(0.5)
+    alive = []
+    for pid in children:
+        try:
+            os.kill(pid, 0)
+            with open(f"/proc/{pid}/stat") as fh:
+                if fh.read().split()[2] != "Z":
+                    alive.append(pid)
+        except (ProcessLookupError, FileNotFoundError):
+            pass
+    assert alive == []
+
+
+def parallel_cores() -> int:
+    from mjstruct.synthesis.parallel import core_count
+
+    return core_count()
 
 
 def test_python_dash_m_runs_the_command():

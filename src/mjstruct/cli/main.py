@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import signal
 import sys
+import threading
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from mjstruct.errors import MechanismError, NumericalError
 
@@ -55,11 +57,23 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class _Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that pools and temporary files close."""
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise _Terminated
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    previous = _install_sigterm()
     try:
         return int(args._run(args))
+    except _Terminated:
+        sys.stderr.write("mjstruct: terminated\n")
+        return 143
     except MechanismError as exc:
         sys.stderr.write(f"mjstruct {args.command}: {exc}\n")
         return 2
@@ -76,6 +90,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}\n"
         )
         return 1
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _install_sigterm() -> Any:
+    """Handle SIGTERM as an exception (main thread only); returns the old handler."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGTERM, _on_sigterm)
 
 
 if __name__ == "__main__":

@@ -34,7 +34,8 @@ def run_tasks(
 ) -> Iterator[Any]:
     """Yield ``fn(task)`` for every task, in task order.
 
-    ``workers > 1`` uses a :class:`concurrent.futures.ProcessPoolExecutor`;
+    ``workers > 1`` uses a :class:`multiprocessing.pool.Pool` (terminated on any
+    early exit);
     ``scheduler`` (an address such as ``"tcp://host:8786"``) sends the tasks to a Dask
     cluster instead (needs the optional ``dask[distributed]``).  Local workers are
     capped at :func:`core_count` (more processes than cores only add overhead).
@@ -50,19 +51,32 @@ def run_tasks(
             if progress:
                 progress(k + 1, total)
         return
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    import multiprocessing
 
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        # biggest tasks first keeps both workers busy to the end; results are
-        # re-ordered below
-        futures = {pool.submit(fn, task): k for k, task in enumerate(tasks)}
-        results: dict[int, Any] = {}
-        for done, fut in enumerate(as_completed(futures), 1):
-            results[futures[fut]] = fut.result()
+    results: dict[int, Any] = {}
+    # a Pool (not concurrent.futures) so that leaving early (Ctrl-C, SIGTERM, an
+    # error) terminates the workers at once instead of waiting for their tasks
+    with multiprocessing.Pool(workers, initializer=_quiet_worker) as pool:
+        calls = [(fn, k, task) for k, task in enumerate(tasks)]
+        for done, (k, value) in enumerate(pool.imap_unordered(_indexed_call, calls), 1):
+            results[k] = value
             if progress:
                 progress(done, total)
     for k in range(total):
         yield results[k]
+
+
+def _quiet_worker() -> None:
+    """Workers leave signals to the parent, which terminates the pool."""
+    import signal
+
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _indexed_call(call: tuple[Callable[[Any], Any], int, Any]) -> tuple[int, Any]:
+    fn, k, task = call
+    return k, fn(task)
 
 
 def _run_dask(
