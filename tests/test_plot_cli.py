@@ -294,3 +294,15 @@ def test_atlas_sheet_panels(tmp_path):
 def test_atlas_sheet_bad_suffix(tmp_path):
     with pytest.raises(MechanismError, match="path: no writer"):
         write_atlas_sheet([], str(tmp_path / "a.gif"))
+
+
+def test_atlas_draw_flag(tmp_path, capsys):
+    import re
+
+    out = tmp_path / "atlas.pdf"
+    assert main(["atlas", "--links", "8", "--draw", str(out)]) == 0
+    pdf = out.read_bytes()
+    assert pdf[:4] == b"%PDF" and len(re.findall(rb"/Type\s*/Page[^s]", pdf)) == 1
+    capsys.readouterr()
+    fails_cleanly(capsys, tmp_path, ["atlas", "--links", "8", "--draw", str(tmp_path / "a.gif")],
+                  "--draw: no writer for '.gif'")  # fmt: skip

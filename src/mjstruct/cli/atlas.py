@@ -34,6 +34,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--list", action="store_true", help="text output: one line per chain")
     p.add_argument("--json", action="store_true")
+    p.add_argument(
+        "--draw", metavar="OUT", help="also draw the chains on a sheet (.pdf pages, .svg, .png)"
+    )
 
 
 def _ids(chains: list[Any], F: int, n: int) -> dict[str, str]:
@@ -50,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--links: need at least one link, got {args.links}")
     if args.workers < 1:
         raise MechanismError(f"--workers: need at least 1, got {args.workers}")
+    if args.draw is not None:
+        _check_sheet(args)
     if args.assur:
         return _run_assur(args)
     if args.dof < 1:
@@ -60,6 +65,8 @@ def run(args: argparse.Namespace) -> int:
     a = _run_atlas(args, bar)
     names = familiar_names()
     ids = _ids(a.chains, args.dof, args.links)
+    if args.draw is not None:
+        _draw_sheet(args, a.chains, ids)
     chains = []
     for c in a.chains:
         d: dict[str, Any] = {"id": ids.get(c.canonical), "name": names.get(c.canonical)}
@@ -110,6 +117,24 @@ def _limit(args: argparse.Namespace) -> int | None:
 
 def _refuse_large(text: str) -> MechanismError:
     return MechanismError(f"--links: {text.removeprefix('limit: ')}; {TOO_LARGE}")
+
+
+def _check_sheet(args: argparse.Namespace) -> None:
+    from mjstruct.plot.files import FIGURE_SUFFIXES, check_output
+
+    if args.assur:
+        raise MechanismError("--draw: atlas sheets draw chains, not Assur groups (--assur)")
+    check_output(args.draw, FIGURE_SUFFIXES, name="--draw")
+
+
+def _draw_sheet(args: argparse.Namespace, chains: list[Any], ids: dict[str, str]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mjstruct.plot.atlas_sheet import write_atlas_sheet
+
+    title = f"F = {args.dof}, n = {args.links}" + (", with multiple joints" if args.mj else "")
+    write_atlas_sheet(chains, args.draw, ids, title=title, name="--draw")
 
 
 def _run_atlas(args: argparse.Namespace, bar: Any) -> Any:
