@@ -65,6 +65,12 @@ EXPLICIT = ("RK45", "DOP853")
 #: stiffness ratio above which ``auto`` integrates implicitly
 STIFF_RATIO = 1e4
 
+#: relative interpolation error the coefficient table is refined to reach
+TABLE_TOL = 1e-8
+
+#: the table is refined (doubled) up to this many times its requested size
+TABLE_REFINE = 8
+
 #: the reference run's tolerance is this much tighter
 REFERENCE_FACTOR = 100.0
 
@@ -95,6 +101,7 @@ class TimeMotion:
         relative to the largest kinetic energy or work met.
     coefficients : ``"table"`` (interpolated V, W, σ) or ``"exact"``.
     table_error : the table's measured relative interpolation error (None: exact).
+    table_points : the table's grid points per turn (None: exact).
     stopped : ``"t_end"`` or ``"rest"`` (q̇ reached zero: the lists end there).
     warnings : what the user must know.
     """
@@ -120,6 +127,7 @@ class TimeMotion:
     energy_residual: float
     coefficients: str
     table_error: float | None
+    table_points: int | None
     stopped: str
     warnings: tuple[str, ...] = ()
 
@@ -306,7 +314,9 @@ def motion_in_time(
         q and q̇; the work's scales with the kinetic energy).
     parameters : values overriding the file's.  An unknown (``null``) parameter left
         open is solved as for steady motion when no load depends on ``qdot``.
-    table : grid points per turn of the interpolated coefficients, or None to solve the
+    table : grid points per turn of the interpolated coefficients (doubled, up to
+        :data:`TABLE_REFINE` times, until the measured interpolation error is below
+        :data:`TABLE_TOL`), or None to solve the
         kinematics at every evaluation (slow for iterated closures, exact).
     estimate : also run at a 100× tighter tolerance and report the difference.
     stop_at_rest : end the run where q̇ first returns to zero (a run-down).
@@ -364,10 +374,21 @@ def motion_in_time(
             raise
         warnings.append(f"{exc}: the coefficients are solved exactly at every step")
         eq = reduced_equation(model, data, params, None)
-    if eq.table_error is not None and eq.table_error > 1e-6:
+    points = table
+    # a cubic spline's error falls 16-fold per doubling: refine to the target
+    while (
+        eq.table_error is not None
+        and eq.table_error > TABLE_TOL
+        and points is not None
+        and table is not None
+        and points < TABLE_REFINE * table
+    ):
+        points *= 2
+        eq = reduced_equation(model, data, params, points)
+    if eq.table_error is not None and eq.table_error > TABLE_TOL:
         warnings.append(
             f"the interpolated coefficients carry a relative error up to {eq.table_error:.2g} "
-            f"(table of {table} points): pass a larger table or table=None"
+            f"(table of {points} points): pass a larger table or table=None"
         )
     V0 = float(eq.terms(np.array([start]))[0][0, 0])
     if not V0 > 0:
@@ -454,6 +475,7 @@ def motion_in_time(
         energy_residual=energy_residual,
         coefficients=eq.kind,
         table_error=eq.table_error,
+        table_points=None if eq.pieces is None else int(eq.pieces.shape[1]),
         stopped=stopped,
         warnings=tuple(warnings),
     )
@@ -538,6 +560,7 @@ def time_json(r: TimeMotion) -> dict[str, Any]:
         },
         "coefficients": r.coefficients,
         "table_error": _num(r.table_error),
+        "table_points": r.table_points,
         "stopped": r.stopped,
         "warnings": list(r.warnings),
     }
@@ -565,7 +588,7 @@ def time_report(r: TimeMotion, rows: int = 11) -> str:
         f"{r.lu_decompositions} LU"
     )
     coeff = (
-        f"interpolated (relative error {_fmt(r.table_error)})"
+        f"interpolated on {r.table_points} points a turn (relative error {_fmt(r.table_error)})"
         if r.coefficients == "table"
         else "exact"
     )
