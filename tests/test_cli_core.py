@@ -215,6 +215,21 @@ def test_structural_path_leaves_heavy_libraries_out(examples):
     assert p.stdout.strip() == "[]"
 
 
+def test_only_the_command_that_runs_is_imported(examples):
+    probe = (
+        "import sys, io, contextlib\n"
+        "from mjstruct.cli.main import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    main(['analyze', {str(examples / 'four-bar.json')!r}])\n"
+        "print(sorted(m for m in sys.modules if m.startswith(('mjstruct.cli.', 'mjstruct.plot',"
+        " 'mjstruct.kinematics', 'mjstruct.dynamics')) or m == 'numpy'))"
+    )
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert (
+        p.stdout.strip() == "['mjstruct.cli.analyze', 'mjstruct.cli.main', 'mjstruct.cli.output']"
+    )
+
+
 def test_analyze_reports_generic_mobility(tmp_path, capsys):
     # five-bar (F = 2) carrying a rigid, over-constrained double four-bar: formula F = 1
     joints = [
