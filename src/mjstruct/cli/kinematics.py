@@ -19,6 +19,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--stroke", type=float, default=1.0, help="sweep of a prismatic driver (default 1)"
     )
     p.add_argument("--tol", type=float, default=1e-12, help="closure tolerance (relative)")
+    p.add_argument(
+        "--no-checks",
+        action="store_true",
+        help="skip the checks (link lengths, analogs vs differences, Jacobian rank/det)",
+    )
     p.add_argument("--csv", metavar="OUT", help="write the table (q, x y vx vy ax ay, ...) here")
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
@@ -37,7 +42,13 @@ def run(args: argparse.Namespace) -> int:
     m = read_mechanism(args.file)
     drivers = driver_list(args.drivers, m)
     r = kinematic_analysis(
-        m, drivers=drivers, frames=args.frames, speed=args.speed, stroke=args.stroke, tol=args.tol
+        m,
+        drivers=drivers,
+        frames=args.frames,
+        speed=args.speed,
+        stroke=args.stroke,
+        tol=args.tol,
+        checks=not args.no_checks,
     )
     if args.csv:
         try:

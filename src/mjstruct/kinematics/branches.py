@@ -83,7 +83,7 @@ class BranchEvent:
 def _sine(
     model: KinematicModel, q: FloatArray, K: Modes, k: int, t: FloatArray | None = None
 ) -> FloatArray:
-    ev = evaluate(model, q, order=0, K=K, upto=k + 1, t=t)
+    ev = evaluate(model, q, order=0, K=K, t=t, only=model.step_dependencies[k])
     return masked_sine(*ev.diag[k])
 
 
@@ -243,7 +243,7 @@ def _smoother_flipped(
     flip[k][-1] *= -1
     pts: list[npt.NDArray[Any]] = []
     for modes in (same, flip):
-        ev = evaluate(model, sub, order=0, K=modes, upto=k + 1)
+        ev = evaluate(model, sub, order=0, K=modes, only=model.step_dependencies[k])
         pts.append(ev.centre(joint)[0])
     x = idx.astype(float)
     known = pts[0][:3]

@@ -101,40 +101,51 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
     """
     ev = motion.evaluation
     m, g, v = r.mechanism, r.geometry, r.valid
-    # link lengths: every pair of centres (and points) on one link over the valid frames
+    # link lengths: distances between centres (and points) of one link over the valid
+    # frames; every pair on a link with few of them, else every one against three
+    # anchors (two far apart and the one farthest from their line: distances to
+    # three non-collinear points fix a point of a rigid link), linear in its joints
     worst = 0.0
     worst_link = ""
+    pos: dict[str, npt.NDArray[np.complex128]] = {}
+    every = bool(v.all())
+    on_link: dict[str, list[str]] = {x: [] for x in m.links}
+    for pid, (lk, _) in g.points.items():
+        on_link[lk].append(pid)
     for link in m.links:
-        ids = [j for j in m.link_joints[link] if m.joint(j).kind == "R"]
-        ids += [p for p, (lk, _) in g.points.items() if lk == link]
-        pos = {i: _position(r, i) for i in ids}
+        ids = [j for j in m.link_joints[link] if m.joint(j).kind == "R"] + on_link[link]
+        for i in ids:
+            if i not in pos:
+                pos[i] = _position(r, i) if every else _position(r, i)[v]
         ref = {i: g.centres[i] if i in g.centres else g.points[i][1] for i in ids}
-        for a_i, a in enumerate(ids):
-            for b in ids[a_i + 1 :]:
-                d = np.abs(pos[a][v] - pos[b][v]) - abs(ref[a] - ref[b])
-                e = float(np.abs(d).max()) if d.size else 0.0
-                if e > worst:
-                    worst, worst_link = e, link
+        for a, b in _length_pairs(ids, ref):
+            d = np.abs(pos[a] - pos[b]) - abs(ref[a] - ref[b])
+            e = float(np.abs(d).max()) if d.size else 0.0
+            if e > worst:
+                worst, worst_link = e, link
     r.checks["link_lengths"] = {"max_error": worst, "link": worst_link or None}
     # analogs against central differences of positions (uniform sweeps only); the
     # five-point stencil (error ~ h^4 x^(5)/30) so that a disagreement means a wrong
     # analog or a branch jump, not the coarseness of the frames
     q = r.q[:, 0]
     F = q.size
-    if F >= 7 and r.q.shape[1] == 1 and np.allclose(np.diff(q), q[1] - q[0], rtol=1e-9, atol=0):
+    dq = np.diff(q)
+    if F >= 7 and r.q.shape[1] == 1 and np.abs(dq - dq[0]).max() <= 1e-9 * abs(dq[0]):
         h = q[1] - q[0]
         err, big, at = 0.0, 0.0, None
         ok = v[4:] & v[3:-1] & v[2:-2] & v[1:-3] & v[:-4]
-        for data in list(r.joints.values()) + list(r.points.values()):
-            for c, s in (("x", "sx"), ("y", "sy")):
-                x, sx = data[c], data[s]
-                fd = (x[:-4] - 8 * x[1:-3] + 8 * x[3:-1] - x[4:]) / (12 * h)
-                if ok.any():
-                    dev = np.where(ok, np.abs(fd - sx[2:-2]), 0.0)
-                    k = int(dev.argmax())
-                    if dev[k] > err:
-                        err, at = float(dev[k]), float(q[k + 2])
-                    big = max(big, float(np.abs(sx[2:-2])[ok].max()))
+        if ok.any():
+            # every joint and point at once: rows x then y, analogs alongside
+            tables = list(r.joints.values()) + list(r.points.values())
+            x = np.array([d[c] for c in ("x", "y") for d in tables])
+            sx = np.array([d[c] for c in ("sx", "sy") for d in tables])[:, 2:-2]
+            fd = (x[:, :-4] - 8 * x[:, 1:-3] + 8 * x[:, 3:-1] - x[:, 4:]) / (12 * h)
+            dev = np.where(ok, np.abs(fd - sx), 0.0).max(axis=0)
+            k = int(dev.argmax())
+            err, at = float(dev[k]), float(q[k + 2])
+            big = float(np.abs(sx[:, ok]).max())
+            if err == 0.0:
+                at = None
         r.checks["analogs_vs_differences"] = {
             "max_error": err,
             "max_analog": big,
@@ -145,7 +156,12 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
     with np.errstate(all="ignore"):
         jc = check_jacobian(m, g, ev.poses, r.plan.drivers, factor=plan_determinant(motion))
     r.jacobian = jc
-    ranks = sorted({int(x) for x in jc.rank[v] if x >= 0}) if v.any() else []
+    seen = jc.rank[v]
+    seen = seen[seen >= 0]
+    if seen.size and seen.min() == seen.max():
+        ranks = [int(seen[0])]
+    else:
+        ranks = [int(x) for x in np.unique(seen)]
     # near singular frames compared in log |det| (the determinant of a large
     # mechanism may not be representable as a float)
     logd = jc.log_det
@@ -182,6 +198,22 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
             f"constraint Jacobian rank {max(ranks)} < {jc.equations} equations: "
             f"{jc.equations - max(ranks)} redundant constraint(s)"
         )
+
+
+#: a link with at most this many centres and points has every pair checked
+ALL_PAIRS = 6
+
+
+def _length_pairs(ids: list[str], ref: dict[str, complex]) -> list[tuple[str, str]]:
+    """Pairs whose distances fix the link's shape: all, or each against three anchors."""
+    if len(ids) <= ALL_PAIRS:
+        return [(a, b) for k, a in enumerate(ids) for b in ids[k + 1 :]]
+    a = ids[0]
+    b = max(ids, key=lambda i: abs(ref[i] - ref[a]))
+    u = (ref[b] - ref[a]) / abs(ref[b] - ref[a])
+    c = max(ids, key=lambda i: abs(((ref[i] - ref[a]) * u.conjugate()).imag))
+    anchors = list(dict.fromkeys((a, b, c)))
+    return [(x, i) for x in anchors for i in ids if i != x]
 
 
 def _position(r: KinematicsResult, ident: str) -> npt.NDArray[np.complex128]:

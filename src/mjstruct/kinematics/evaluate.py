@@ -23,6 +23,7 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -83,6 +84,7 @@ def evaluate(
     t2: FloatArray | None = None,
     K: Modes | None = None,
     upto: int | None = None,
+    only: Sequence[int] | None = None,
 ) -> Evaluation:
     """Run the model's plan on driver coordinates ``q`` (frames × drivers).
 
@@ -95,6 +97,8 @@ def evaluate(
     K : assembly mode per dyad step (±1, scalar or per frame); missing: chosen to
         reproduce the reference configuration (see :func:`reference_mode`).
     upto : stop after this many steps (for refining branch points).
+    only : evaluate only these steps (indices in plan order, closed under what they
+        read: :attr:`~mjstruct.kinematics.model.KinematicModel.step_dependencies`).
     """
     plan, geom, m = model.plan, model.geometry, model.mechanism
     F = int(q.shape[0])
@@ -110,11 +114,15 @@ def evaluate(
         t2=zeros if t2 is None else t2,
         modes=K if K is not None else {},
     )
-    steps = plan.steps if upto is None else plan.steps[:upto]
-    for k, s in enumerate(steps):
-        STEP_KINDS[s.kind].evaluate(s, k, run)
+    if only is not None:
+        for k in only:
+            s = plan.steps[k]
+            STEP_KINDS[s.kind].evaluate(s, k, run)
+    else:
+        for k, s in enumerate(plan.steps if upto is None else plan.steps[:upto]):
+            STEP_KINDS[s.kind].evaluate(s, k, run)
     ev = Evaluation(m, geom, order, run.poses, run.residuals, run.diag, run.first, run.solved)
-    if plan.reference != plan.frame and plan.frame in ev.poses and upto is None:
+    if plan.reference != plan.frame and plan.frame in ev.poses and upto is None and only is None:
         _to_frame(ev, plan.frame)
     return ev
 

@@ -222,6 +222,22 @@ MEMORY_BUDGET = 64 * 2**20
 CALIBRATION_FRAMES = 5
 #: the product stands in for det J when it agrees to this (relative) on those frames
 FACTOR_AGREES = 1e-6
+#: at most this many near-singular frames get an SVD for the rank (the deepest dips)
+RANK_FRAMES = 36
+
+
+def _dips(logdet: FloatArray, weak: npt.NDArray[np.bool_], limit: int) -> npt.NDArray[np.intp]:
+    """Frames of the weak runs where log |det| has a local minimum (undefined ones
+    first, then the deepest), at most ``limit``, in frame order."""
+    F = logdet.size
+    x = np.where(np.isfinite(logdet), logdet, -np.inf)
+    left = np.concatenate([[np.inf], x[:-1]])
+    right = np.concatenate([x[1:], [np.inf]])
+    cand = np.flatnonzero(weak & (x <= left) & (x <= right))
+    if cand.size == 0:
+        return np.zeros(0, dtype=np.intp)
+    pick = cand[np.argsort(x[cand], kind="stable")][:limit]
+    return np.sort(pick) if F else pick
 
 
 def _sizes(m: Mechanism, drivers: tuple[str, ...]) -> tuple[int, int]:
@@ -309,23 +325,23 @@ def _factored(
         return None
     log_c = l_dir - logf[cal]
     sign_c = s_dir * sign[cal]
-    err = float(np.abs(np.expm1(log_c - np.median(log_c))).max())
+    mid = float(sorted(log_c)[log_c.size // 2])
+    err = float(np.abs(np.expm1(log_c - mid)).max())
     if not (err <= FACTOR_AGREES and (sign_c == sign_c[0]).all()):
         return None
-    logdet = np.where(finite, float(np.median(log_c)) + logf, np.nan)
+    logdet = np.where(finite, mid + logf, np.nan)
     with np.errstate(over="ignore", under="ignore"):
         det = np.where(finite, sign_c[0] * sign * np.exp(logdet), np.nan)
     top = float(np.nanmax(logdet))
     rank = np.full(F, -1)
     strong = finite & (logdet >= top + np.log(NEAR_SINGULAR))
     rank[strong] = nu  # a nonzero determinant of [J; D]: the rows of J are independent
-    weak = np.flatnonzero(finite & ~strong)
-    limit = min(sample, _chunk(nu, nc))
-    weak = np.sort(
-        weak[np.argsort(np.nan_to_num(logdet[weak], nan=-np.inf), kind="stable")][:limit]
-    )
-    Jw, _ = constraint_jacobian(m, geom, poses_at(poses, weak), drivers)
-    rank[weak] = _ranks(Jw, nu, nc)
+    weak = _dips(logdet, finite & ~strong, min(sample, RANK_FRAMES, _chunk(nu, nc)))
+    if weak.size:
+        Jw, _ = constraint_jacobian(m, geom, poses_at(poses, weak), drivers)
+        rank[weak] = _ranks(Jw, nu, nc)
+    else:
+        Jw = np.zeros((0, nu, nc))
     keep = np.concatenate([cal, weak])
     order = np.argsort(keep, kind="stable")
     return JacobianCheck(

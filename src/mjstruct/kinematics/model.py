@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import numpy.typing as npt
@@ -88,6 +89,37 @@ class KinematicModel:
         geometry = read_geometry(mechanism, drv)
         plan = plan_kinematics(mechanism, drv, decomposition=decomposition, geometry=geometry)
         return cls(mechanism, geometry, plan)
+
+    @cached_property
+    def step_dependencies(self) -> tuple[tuple[int, ...], ...]:
+        """For each step of the plan, the steps its evaluation needs (itself included).
+
+        From what each step kind reads (:attr:`~mjstruct.kinematics.steps.StepKind.reads`):
+        the steps that placed the links and first carried the joint centres it reads,
+        and theirs in turn.  Evaluating one step with only these
+        (``evaluate(..., only=...)``) costs what its own group costs, not the plan's
+        prefix.
+        """
+        m = self.mechanism
+        placed_by: dict[str, int] = {}
+        carried_by: dict[str, int] = {}
+        out: list[frozenset[int]] = []
+        for k, s in enumerate(self.plan.steps):
+            kind = s.step_kind
+            if kind.reads is None:
+                need: frozenset[int] = frozenset(range(k + 1))
+            else:
+                links, joints = kind.reads(s, m)
+                direct = {placed_by[x] for x in links if x in placed_by}
+                direct |= {carried_by[j] for j in joints if j in carried_by}
+                need = frozenset({k}.union(direct, *(out[i] for i in direct)))
+            out.append(need)
+            if kind.equations == 0:
+                for x in s.links:
+                    placed_by.setdefault(x, k)
+                    for j in m.link_joints[x]:
+                        carried_by.setdefault(j, k)
+        return tuple(tuple(sorted(d)) for d in out)
 
     @property
     def drivers(self) -> tuple[str, ...]:

@@ -133,6 +133,8 @@ class Run:
 
 Evaluator = Callable[[Step, int, Run], None]
 ReferenceMode = Callable[[Step, Geometry], int]
+#: (links whose poses a step reads, joints whose centres it reads)
+Reads = Callable[[Step, Mechanism], tuple[tuple[str, ...], tuple[str, ...]]]
 
 
 @dataclass(frozen=True)
@@ -150,6 +152,8 @@ class StepKind:
         kinds with two assembly modes (None: a unique solution).
     guides : for a line intersection, the two guides whose parallelism leaves the
         step undefined.
+    reads : the links and joint centres the step's evaluation reads (so that one step
+        can be evaluated with only the steps it depends on); None: every step before.
     """
 
     name: str
@@ -159,6 +163,7 @@ class StepKind:
     equations: int = 0
     reference_mode: ReferenceMode | None = None
     guides: Callable[[Step], tuple[str, str]] | None = None
+    reads: Reads | None = None
 
     @property
     def has_modes(self) -> bool:
@@ -168,6 +173,16 @@ class StepKind:
 
 #: the step kinds by name; each family module registers its kinds on import
 STEP_KINDS: dict[str, StepKind] = {}
+
+
+def reads_inputs(s: Step, m: Mechanism) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """What a step reads when it starts from its input centres only."""
+    return (), s.inputs
+
+
+def reads_base_and_first_input(s: Step, m: Mechanism) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """What a step reads when it starts from link ``base`` and its first input centre."""
+    return (s.base,), s.inputs[:1]
 
 
 def register(kind: StepKind) -> StepKind:

@@ -22,6 +22,7 @@ from mjstruct.kinematics.steps.base import (
     Run,
     Step,
     StepKind,
+    reads_inputs,
     register,
     register_rule,
 )
@@ -55,6 +56,7 @@ register(
         "place",
         "link {links[0]} placed by its known centres {inputs[0]}, {inputs[1]}",
         _eval_place,
+        reads=reads_inputs,
     )
 )
 register(
@@ -63,6 +65,7 @@ register(
         "closure: |{inputs[0]}{inputs[1]}| on link {links[0]} must equal its length",
         _eval_close_distance,
         equations=1,
+        reads=reads_inputs,
     )
 )
 register(
@@ -71,6 +74,7 @@ register(
         "closure: centre {joint} from link {links[0]} must coincide with link {links[1]}'s",
         _eval_close_point,
         equations=2,
+        reads=lambda s, m: (s.links, ()),
     )
 )
 

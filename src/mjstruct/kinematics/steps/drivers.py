@@ -27,6 +27,7 @@ from mjstruct.kinematics.steps.base import (
     register_rule,
 )
 from mjstruct.kinematics.triangles import Jet, Pose
+from mjstruct.mechanism import Mechanism
 
 
 def _reference(s: Step, k: int, run: Run) -> None:
@@ -64,11 +65,16 @@ def _assume(s: Step, k: int, run: Run) -> None:
     run.place(s.links[0], Pose(C[s.joint], run.centre(s.joint), np.exp(1j * run.t[:, i]), w))
 
 
+def _driver_reads(s: Step, m: Mechanism) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    return (s.base,), (s.joint,)
+
+
 register(
     StepKind(
         "reference",
         "link {links[0]} is the reference (fixed in the solving frame)",
         _reference,
+        reads=lambda s, m: ((), ()),
     )
 )
 register(
@@ -76,16 +82,23 @@ register(
         "driver-R",
         "joint {joint} turns link {links[0]} about {joint} on link {base} by q{n}",
         _driver,
+        reads=_driver_reads,
     )
 )
 register(
-    StepKind("driver-P", "joint {joint} slides link {links[0]} along link {base} by q{n}", _driver)
+    StepKind(
+        "driver-P",
+        "joint {joint} slides link {links[0]} along link {base} by q{n}",
+        _driver,
+        reads=_driver_reads,
+    )
 )
 register(
     StepKind(
         "assume",
         "assume the angle t{n} of link {links[0]} about {joint} (closure unknown)",
         _assume,
+        reads=lambda s, m: ((), (s.joint,)),
     )
 )
 

@@ -25,6 +25,8 @@ from mjstruct.kinematics.steps.base import (
     Step,
     StepKind,
     other_link,
+    reads_base_and_first_input,
+    reads_inputs,
     register,
     register_rule,
 )
@@ -84,6 +86,7 @@ STEP_RRR = register(
         _eval_rrr,
         triangle="general",
         reference_mode=_ref_rrr,
+        reads=reads_inputs,
     )
 )
 
@@ -123,6 +126,7 @@ register(
         _eval_rrp,
         triangle="right",
         reference_mode=_ref_rrp,
+        reads=reads_base_and_first_input,
     )
 )
 
@@ -156,6 +160,7 @@ register(
         _eval_rpr,
         triangle="right",
         reference_mode=_ref_rpr,
+        reads=reads_inputs,
     )
 )
 

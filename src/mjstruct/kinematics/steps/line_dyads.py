@@ -23,6 +23,7 @@ from mjstruct.kinematics.steps.base import (
     Step,
     StepKind,
     other_link,
+    reads_base_and_first_input,
     register,
     register_rule,
 )
@@ -87,6 +88,10 @@ STEP_PRP = register(
         _eval_prp,
         triangle="right",
         guides=_guides_prp,
+        reads=lambda s, m: (
+            tuple(other_link(m, g, x) for g, x in zip(s.inputs, s.links, strict=True)),
+            (),
+        ),
     )
 )
 STEP_RPP = register(
@@ -98,6 +103,7 @@ STEP_RPP = register(
         _eval_rpp,
         triangle="right",
         guides=_guides_rpp,
+        reads=reads_base_and_first_input,
     )
 )
 

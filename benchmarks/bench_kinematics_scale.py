@@ -1,0 +1,109 @@
+"""Kinematics at scale: time and peak memory from 4 to 1000 links, measured per size.
+
+The family: k four-bars sharing one crank (the crank's pin ``A`` is one multiple joint
+of the crank and all k couplers; n = 2 + 2k links).  For each size, in a fresh
+process (so that its peak resident memory is its own): planning alone, and the
+default ``kinematic_analysis`` (checks on) and the one with ``checks=False`` at 3600
+frames.  Prints medians, time per link, the log-log slope between consecutive sizes
+and the peak RSS.
+
+Run: ``python benchmarks/bench_kinematics_scale.py [--frames N] [--sizes 4,18,...]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cmath
+import json
+import math
+import resource
+import subprocess
+import sys
+import time
+
+SIZES = (4, 10, 18, 34, 66, 130, 258, 514, 1000)
+
+
+def shared_crank(k: int):  # type: ignore[no-untyped-def]
+    """k Grashof crank-rockers on one crank O1-A; rocker pivots on a unit circle."""
+    from mjstruct.io import mechanism_from_dict
+
+    a0 = 0.25 * cmath.exp(0.3j)
+    joints = [
+        {"id": "O1", "links": ["0", "1"], "at": [0.0, 0.0]},
+        {"id": "A", "links": ["1", *[f"c{i}" for i in range(k)]], "at": [a0.real, a0.imag]},
+    ]
+    for i in range(k):
+        phi = 2 * math.pi * i / k
+        o2 = cmath.exp(1j * phi)
+        b = o2 + 0.8j * cmath.exp(1j * phi)
+        joints.append({"id": f"B{i}", "links": [f"c{i}", f"r{i}"], "at": [b.real, b.imag]})
+        joints.append({"id": f"O2_{i}", "links": [f"r{i}", "0"], "at": [o2.real, o2.imag]})
+    return mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
+
+
+def _one(n: int, frames: int, repeat: int) -> dict[str, float]:
+    """Measure one size (run in a child process)."""
+    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.solver import kinematic_analysis
+
+    m = shared_crank((n - 2) // 2)
+
+    def timed(fn) -> float:  # type: ignore[no-untyped-def]
+        ts = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            fn()
+            ts.append(time.perf_counter() - t0)
+        return sorted(ts)[len(ts) // 2]
+
+    out = {"links": float(len(m.links))}
+    out["plan"] = timed(lambda: KinematicModel.build(m))
+    model = KinematicModel.build(m)
+    out["no_checks"] = timed(lambda: kinematic_analysis(model, frames=frames, checks=False))
+    out["checks"] = timed(lambda: kinematic_analysis(model, frames=frames))
+    r = kinematic_analysis(model, frames=frames)
+    out["valid"] = float(r.valid.mean())
+    out["factor_error"] = float(r.checks["jacobian"]["det_from_plan_error"] or -1)
+    out["rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--frames", type=int, default=3600)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--sizes", default=",".join(str(s) for s in SIZES))
+    ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child:
+        print(json.dumps(_one(args.child, args.frames, args.repeat)))
+        return
+    print(
+        f"k four-bars sharing one crank, {args.frames} frames, median of {args.repeat} "
+        "(each size in its own process)"
+    )
+    print(
+        f"{'links':>6} {'plan ms':>9} {'no checks ms':>13} {'checks ms':>10} "
+        f"{'checks us/link':>15} {'slope':>6} {'peak MB':>8} {'valid':>6} {'det err':>8}"
+    )
+    prev = None
+    for n in (int(s) for s in args.sizes.split(",")):
+        cmd = [sys.executable, __file__, "--child", str(n), "--frames", str(args.frames)]
+        cmd += ["--repeat", str(args.repeat)]
+        got = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
+        slope = (
+            math.log(got["checks"] / prev["checks"]) / math.log(got["links"] / prev["links"])
+            if prev
+            else float("nan")
+        )
+        print(
+            f"{int(got['links']):6d} {got['plan'] * 1e3:9.1f} {got['no_checks'] * 1e3:13.1f} "
+            f"{got['checks'] * 1e3:10.1f} {got['checks'] / got['links'] * 1e6:15.0f} "
+            f"{slope:6.2f} {got['rss_mb']:8.0f} {got['valid']:6.2f} {got['factor_error']:8.1e}"
+        )
+        prev = got
+
+
+if __name__ == "__main__":
+    main()
