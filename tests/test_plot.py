@@ -336,3 +336,22 @@ def test_force_layers_draw_the_dynamics_result(orders):
 def test_force_layers_need_dynamics_data():
     with pytest.raises(MechanismError, match="inertia: the file has no dynamics data"):
         scene_at(model_of("slider-crank"), layers=("reactions",))
+
+
+def test_notebook_reprs_are_small_and_quick():
+    import time
+
+    from mjstruct.report import structural_report
+
+    engine = read_mechanism(example_path("kin-radial-engine-5"))
+    engine._repr_svg_()  # imports once
+    start = time.perf_counter()
+    svg = engine._repr_svg_()
+    assert svg.startswith("<?xml") and "<svg" in svg and len(svg) < 80_000
+    assert time.perf_counter() - start < 5.0  # generous: a shared machine
+    chain = read_mechanism(example_path("watt"))  # no geometry: an atlas panel
+    assert "<svg" in chain._repr_svg_()
+    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=24, checks=False)
+    assert "<svg" in r._repr_svg_()
+    table = structural_report(engine)._repr_html_()
+    assert table.startswith("<table>") and "<th style='text-align:left'>MJA</th>" in table

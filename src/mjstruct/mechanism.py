@@ -184,6 +184,12 @@ class Mechanism:
             g.add_edges_from(((JOINT, j.id), (LINK, link)) for link in j.links)
         return g
 
+    def _repr_svg_(self) -> str:
+        """Notebook picture (:func:`mjstruct.plot.notebook.mechanism_svg`)."""
+        from mjstruct.plot.notebook import mechanism_svg
+
+        return mechanism_svg(self)
+
     def with_drivers(self, drivers: Iterable[str]) -> Mechanism:
         """The same mechanism with another set of driven joints."""
         return Mechanism(

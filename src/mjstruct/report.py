@@ -90,6 +90,12 @@ class StructuralReport:
             return None
         return full_code(self.assortment, K)
 
+    def _repr_html_(self) -> str:
+        """Notebook table (:func:`mjstruct.plot.notebook.report_html`)."""
+        from mjstruct.plot.notebook import report_html
+
+        return report_html(self)
+
     def to_dict(self) -> dict[str, Any]:
         """The contract's ``analyze`` object plus the checks behind each number."""
         a = self.assortment
