@@ -160,22 +160,27 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     are not valid)."""
     km, ev, q = motion.model, motion.evaluation, motion.q
     m, geom = km.mechanism, km.geometry
+    if motion.order < 2:
+        raise ValueError("collect: the motion must carry second derivatives (order 2)")
     W = float(speed)
-    joints: dict[str, dict[str, FloatArray]] = {}
+    W2 = W * W
+    # every centre and point is a function of the link poses, whose finiteness the
+    # motion's ``valid`` already holds; at unit speed velocities are the analogs
     valid = motion.valid.copy()
 
+    def scaled(a: FloatArray, k: float) -> FloatArray:
+        return a if k == 1.0 else a * k
+
     def pack(X: Jet) -> dict[str, FloatArray]:
-        nonlocal valid
-        valid &= np.isfinite(X[0]) & np.isfinite(X[1]) & np.isfinite(X[2])
+        sx, sy, kx, ky = X[1].real, X[1].imag, X[2].real, X[2].imag
         return {
             "x": X[0].real, "y": X[0].imag,
-            "vx": X[1].real * W, "vy": X[1].imag * W,
-            "ax": X[2].real * W * W, "ay": X[2].imag * W * W,
-            "sx": X[1].real, "sy": X[1].imag, "kx": X[2].real, "ky": X[2].imag,
+            "vx": scaled(sx, W), "vy": scaled(sy, W),
+            "ax": scaled(kx, W2), "ay": scaled(ky, W2),
+            "sx": sx, "sy": sy, "kx": kx, "ky": ky,
         }  # fmt: skip
 
-    for j in m.joints:
-        joints[j.id] = pack(ev.centre(j.id))
+    joints = {j.id: pack(ev.centre(j.id)) for j in m.joints}
     points = {pid: pack(ev.poses[link].point(z)) for pid, (link, z) in geom.points.items()}
     links: dict[str, dict[str, FloatArray]] = {}
     for link in m.links:
@@ -185,17 +190,17 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
         else:
             theta = np.angle(p.r)
             ok = np.isfinite(theta)
-            if ok.any():
+            if ok.all():
+                theta = np.unwrap(theta)
+            elif ok.any():
                 theta[ok] = np.unwrap(theta[ok])
-        ang = theta + geom.char_angle[link]
         links[link] = {
-            "angle": ang,
-            "omega": p.w[0] * W,
-            "eps": p.w[1] * W * W,
+            "angle": theta + geom.char_angle[link],
+            "omega": scaled(p.w[0], W),
+            "eps": scaled(p.w[1], W2),
             "sigma": p.w[0],
             "kappa": p.w[1],
         }
-        valid &= np.isfinite(p.w[0]) & np.isfinite(p.w[1])
     return KinematicsResult(
         km, q, W, valid, joints, points, links, list(motion.events), [], {}, motion.closure
     )
