@@ -178,7 +178,7 @@ class _Builder:
             return parts[0] if len(parts) == 1 else sp.And(*parts)
         if isinstance(node, ast.Call):
             if not isinstance(node.func, ast.Name) or node.func.id not in self.functions:
-                name = node.func.id if isinstance(node.func, ast.Name) else "this call"
+                name = ast.unparse(node.func)
                 raise self.fail(f"{name!r} is not a known function or symbol")
             if node.keywords:
                 raise self.fail(f"{node.func.id}: keyword arguments are not allowed")
