@@ -306,3 +306,13 @@ def test_atlas_draw_flag(tmp_path, capsys):
     capsys.readouterr()
     fails_cleanly(capsys, tmp_path, ["atlas", "--links", "8", "--draw", str(tmp_path / "a.gif")],
                   "--draw: no writer for '.gif'")  # fmt: skip
+
+
+def test_ms_diagram_chart_marks_the_four_bar():
+    from mjstruct.plot.ms_diagram import ms_point
+
+    model = KinematicModel.build(read_mechanism(example_path("four-bar")))
+    fig = draw_chart(model, "ms-diagram")
+    _, p2, p3 = ms_point(model.mechanism)
+    star = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "*"]
+    assert len(star) == 1 and tuple(star[0].get_xydata()[0]) == pytest.approx((p2, p3))

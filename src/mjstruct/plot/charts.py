@@ -252,6 +252,14 @@ def _legend(ax: Axes) -> None:
         ax.legend(fontsize=8)
 
 
+def _ms_diagram(data: ChartData, fig: Figure) -> None:
+    from mjstruct.plot.ms_diagram import ms_point, plot_ms_diagram
+
+    p1, p2, p3 = ms_point(data.model.mechanism)
+    name = data.model.mechanism.name or "mechanism"
+    plot_ms_diagram(p1, point=(p2, p3), label=name, ax=fig.add_subplot())
+
+
 def _dynamic(what: str) -> Callable[[ChartData, Figure], None]:
     labels = {
         "V": "reduced moment of inertia V",
@@ -301,6 +309,7 @@ CHARTS: dict[str, Chart] = {
         Chart(
             "transmission", 0, False, "transmission angle of a four-bar against q", _transmission
         ),
+        Chart("ms-diagram", 0, False, "four-bar P2-P3 diagram of singular motions", _ms_diagram),
         Chart("V", 0, True, "reduced moment of inertia V(q)", _dynamic("V")),
         Chart("Q", 0, True, "generalised force Q(q)", _dynamic("Q")),
         Chart(
@@ -351,7 +360,8 @@ def draw_chart(
     motion = model.motion(q, order=c.order)
     data = ChartData(model, motion, speed, None if ids is None else tuple(ids), dyn)
     if fig is None:
-        fig = plt.figure(figsize=(7, 5.5 if what == "paths" else 4.2))
+        size = {"paths": (7.0, 5.5), "ms-diagram": (6.4, 6.0)}.get(what, (7.0, 4.2))
+        fig = plt.figure(figsize=size)
     c.draw(data, fig)
     fig.suptitle(f"{model.mechanism.name or 'mechanism'}: {c.help}", fontsize=10)
     return fig
