@@ -340,13 +340,13 @@ def test_fast_admissibility_equals_brute_force_per_distribution() -> None:
 
 
 def test_estimates_from_smaller_sizes_are_within_a_factor_three():
-    from mjstruct.synthesis.job_size import _extrapolate
+    from mjstruct.synthesis.job_size import extrapolate_count
 
     sj = [(4, 1), (6, 2), (8, 16), (10, 230), (12, 6856)]
     mj = [(4, 1), (6, 4), (8, 60), (10, 2645), (12, 248203)]
     for series in (sj, mj):
         for k in (3, 4):
-            guess = _extrapolate(tuple(series[:k]), series[k][0], 2)
+            guess = extrapolate_count(tuple(series[:k]), series[k][0], 2)
             assert guess is not None and 1 / 3 < guess / series[k][1] < 3
 
 

@@ -61,8 +61,11 @@ def _series(F: int, mj: bool, fractionated: bool) -> tuple[tuple[int, int], ...]
     return tuple(sorted(counts.items()))
 
 
-def _extrapolate(known: tuple[tuple[int, int], ...], n: int, step: int) -> int | None:
-    """The count at ``n`` from counts known every ``step`` links (None: too few)."""
+def extrapolate_count(known: tuple[tuple[int, int], ...], n: int, step: int) -> int | None:
+    """The count at ``n`` from ``(links, count)`` known every ``step`` links (None: too few).
+
+    >>> extrapolate_count(((4, 1), (6, 2), (8, 16), (10, 230)), 12, 2)  # atlas: 6856
+    5941"""
     table = dict(known)
     if n in table:
         return table[n]
@@ -99,7 +102,7 @@ def chain_count_estimate(
     """
     if n - 1 - F < 2 or (n - 1 - F) % 2:
         return 0
-    return _extrapolate(_series(F, mj, fractionated), n, 2)
+    return extrapolate_count(_series(F, mj, fractionated), n, 2)
 
 
 def assur_group_count_estimate(n: int) -> int | None:
@@ -110,7 +113,7 @@ def assur_group_count_estimate(n: int) -> int | None:
     """
     if n % 2 or n < 2:
         return 0
-    return _extrapolate(tuple(sorted(ASSUR_GROUPS.items())), n, 2)
+    return extrapolate_count(tuple(sorted(ASSUR_GROUPS.items())), n, 2)
 
 
 def size_text(count: int) -> str:
