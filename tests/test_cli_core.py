@@ -262,3 +262,10 @@ def test_analyze_reports_generic_mobility(tmp_path, capsys):
     assert g["overconstrained"] == [{"links": ["4", "5", "6", "7"], "redundant": 1}]
     status, out, _ = run(capsys, "analyze", str(f))
     assert "F_generic = 2" in out and "over-constrained sub-chain {4, 5, 6, 7}" in out
+
+
+def test_library_parameters_become_flags_on_the_command_line(capsys):
+    assert main(["analyze", "--code", "[4 x]/0"]) == 2
+    assert capsys.readouterr().err.startswith("mjstruct analyze: --code: ")
+    assert main(["atlas", "--links", "30"]) == 2
+    assert capsys.readouterr().err.startswith("mjstruct atlas: --links: ")

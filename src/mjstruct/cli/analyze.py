@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from mjstruct.cli.output import emit_json, emit_text
+from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 
@@ -29,7 +29,8 @@ def run(args: argparse.Namespace) -> int:
     if (args.file is None) == (args.code is None):
         raise MechanismError("give either a mechanism FILE or --code CODE")
     if args.code is not None:
-        r = code_report(args.code, dof=args.dof, N=args.drivers, lam=args.lam)
+        with flag_names(code="--code", dof="--dof", N="--drivers", lam="--lambda"):
+            r = code_report(args.code, dof=args.dof, N=args.drivers, lam=args.lam)
     else:
         if args.dof is not None or args.drivers is not None:
             raise MechanismError("--dof and --drivers go with --code; a file has its own")
