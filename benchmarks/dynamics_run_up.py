@@ -36,7 +36,7 @@ TOLERANCES = (1e-3, 1e-5, 1e-7, 1e-9, 1e-11)
 T_END = 3.0
 FRAMES = 201
 W0 = 20.0  # the motor's no-load speed, rad/s
-LOG_TIMES = np.concatenate([[0.0], np.geomspace(1e-5, T_END, 400)])
+LOG_TIMES = np.concatenate([[0.0], np.geomspace(1e-7, T_END, 500)])
 
 #: (name, stall torque M0): the line M = M0 (1 − q̇/ω0) is steeper for a larger M0
 CASES = (("mildly stiff", 8e3), ("stiff", 4e5), ("very stiff", 8e6))
