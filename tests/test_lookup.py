@@ -287,10 +287,13 @@ def test_names_are_printed_without_terminal_escapes(
     def tainted(sql: str, params: tuple[object, ...] = ()) -> list[dict[str, object]]:
         rows = real(sql, params)
         for r in rows:
-            r["name"] = "Watt\x1b]0;owned\x07\x1b[2J"
+            r["name"] = "Watt\x1b]0;owned\x07\x1b[2J"  # ESC, BEL
         return rows
 
     monkeypatch.setattr(catalog, "query", tainted)
     assert main(["lookup", str(ROOT / "catalogs" / "examples" / "watt.json")]) == 0
     out = capsys.readouterr().out
     assert "\x1b" not in out and "\x07" not in out and "Watt\\x1b]0;owned" in out
+    assert main(["lookup", str(ROOT / "catalogs" / "examples" / "watt.json"), "--json"]) == 0
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and json.loads(out)["name"] == "Watt\x1b]0;owned\x07\x1b[2J"

@@ -47,8 +47,13 @@ def dumps(obj: Any, level: int = 0) -> str:
     return json.dumps(obj, ensure_ascii=False, allow_nan=False, separators=(", ", ": "))
 
 
+_C1 = re.compile("[\x7f-\x9f]")  # json.dumps leaves these raw with ensure_ascii=False
+
+
 def emit_json(obj: Any) -> None:
-    sys.stdout.write(dumps(obj) + "\n")
+    """One JSON object; no raw control character reaches the terminal."""
+    text = _C1.sub(lambda c: f"\\u{ord(c.group()):04x}", dumps(obj))
+    sys.stdout.write(text + "\n")
 
 
 _CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
