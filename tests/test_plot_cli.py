@@ -316,3 +316,16 @@ def test_ms_diagram_chart_marks_the_four_bar():
     _, p2, p3 = ms_point(model.mechanism)
     star = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "*"]
     assert len(star) == 1 and tuple(star[0].get_xydata()[0]) == pytest.approx((p2, p3))
+
+
+def test_draw_without_geometry_is_the_structural_scheme(tmp_path, capsys):
+    out = tmp_path / "watt.svg"
+    assert main(["draw", ex("watt"), "-o", str(out)]) == 0
+    svg = out.read_text()
+    assert "structural scheme" in svg
+    fails_cleanly(
+        capsys,
+        tmp_path,
+        ["draw", ex("watt"), "--show", "velocity", "-o", str(tmp_path / "w.svg")],
+        "--show: needs joint centres",
+    )

@@ -6,6 +6,7 @@ vectors, paths).  Also the arguments and checks that ``animate`` and ``plot`` sh
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.cli.output import driver_list
@@ -99,6 +100,11 @@ def run(args: argparse.Namespace) -> int:
     check_output(args.output, FIGURE_SUFFIXES, name="-o")
     if args.dpi < 10:
         raise MechanismError(f"--dpi: must be >= 10, got {args.dpi}")
+    from mjstruct.io import read_mechanism
+
+    m = read_mechanism(args.file)
+    if any(j.at is None for j in m.joints):
+        return _structural(args, m)
     model = read_model(args)
     layers, paths = layer_options(args, model)
     q = None if args.q is None else _driver_values(args.q, model)
@@ -111,7 +117,36 @@ def run(args: argparse.Namespace) -> int:
     scene = scene_at(model, q, layers, speed=args.speed, paths=paths, stroke=args.stroke)
     write_drawing(scene, args.output, dpi=args.dpi, name="-o")
     for w in scene.motion.warnings:
-        import sys
-
         sys.stderr.write(f"mjstruct draw: warning: {w}\n")
+    return 0
+
+
+def _structural(args: argparse.Namespace, m: Any) -> int:
+    """A file without joint centres: its chain drawn as an atlas panel (no layers, no q)."""
+    given = [
+        flag
+        for flag, v in (("--q", args.q), ("--show", args.show or None), ("--paths", args.paths))
+        if v is not None
+    ]
+    if given:
+        raise MechanismError(
+            f"{given[0]}: needs joint centres ('at') in the file; without them only the "
+            "structural scheme is drawn"
+        )
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mjstruct.plot.atlas_sheet import chain_layout, draw_chain
+    from mjstruct.plot.files import write_atomically
+
+    fig = plt.figure(figsize=(5, 5))
+    try:
+        lay = chain_layout(m)
+        note = "structural scheme" if lay.planar else "structural scheme; not planar"
+        draw_chain(fig.add_subplot(), m, lay, caption=f"{m.name or 'chain'}\n({note})")
+        write_atomically(args.output, lambda tmp: fig.savefig(tmp, dpi=args.dpi), name="-o")
+    finally:
+        plt.close(fig)
     return 0

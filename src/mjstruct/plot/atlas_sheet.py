@@ -9,7 +9,8 @@ a short canonical id; a PDF gets one page per grid).
 A planar chain is drawn in a planar embedding with straight edges and no crossings:
 the link–joint graph is embedded (networkx's planarity test), each link becomes the
 polygon of its joints in the embedding's rotation order, and the resulting joint graph
-is placed by Tutte's barycentric method on its longest face, falling back to the
+is placed by Tutte's barycentric method on one of its longest faces (the crossing-free
+drawing whose joints lie farthest apart), falling back to the
 Chrobak–Payne grid drawing (``networkx.planar_layout``) when Tutte's drawing is not
 crossing-free.  :func:`crossings` counts crossing edges, so the result is checked,
 not assumed.  A non-planar chain gets a Kamada–Kawai layout and says so.
@@ -80,9 +81,9 @@ def chain_layout(m: Mechanism) -> ChainLayout:
             link: tuple(j for _, j in emb.neighbors_cw_order(("link", link))) for link in m.links
         }
         jg = _joint_graph(m, outline)
-        pos = _tutte(jg)
+        pos = _tutte(jg, outline)
         lay = ChainLayout(pos, outline, True) if pos is not None else None
-        if lay is None or crossings(lay) or _coincide(pos or {}):
+        if lay is None:
             raw = nx.planar_layout(jg)
             lay = ChainLayout({k: complex(*v) for k, v in raw.items()}, outline, True)
         return _normalised(lay)
@@ -119,8 +120,9 @@ def _faces(emb: Any) -> list[list[Any]]:
     return faces
 
 
-def _tutte(jg: Any) -> dict[str, complex] | None:
-    """Tutte's barycentric drawing on the longest face (None when it does not apply)."""
+def _tutte(jg: Any, outline: dict[str, tuple[str, ...]]) -> dict[str, complex] | None:
+    """Tutte's barycentric drawing, the best of the longest faces taken as the outer one
+    (crossing-free, joints farthest apart); None when none applies."""
     import networkx as nx
 
     if jg.number_of_nodes() < 3 or not nx.is_connected(jg):
@@ -128,7 +130,28 @@ def _tutte(jg: Any) -> dict[str, complex] | None:
     planar, emb = nx.check_planarity(jg)
     if not planar:
         return None
-    outer = max(_faces(emb), key=len)
+    faces = sorted(_faces(emb), key=len, reverse=True)[:8]
+    best: tuple[float, dict[str, complex]] | None = None
+    for outer in faces:
+        pos = _barycentric(jg, outer)
+        if pos is None or _coincide(pos):
+            continue
+        if crossings(ChainLayout(pos, outline, True)):
+            continue
+        score = _spacing(pos)
+        if best is None or score > best[0]:
+            best = (score, pos)
+    return None if best is None else best[1]
+
+
+def _spacing(pos: dict[str, complex]) -> float:
+    """Smallest distance between two joints over the drawing's size."""
+    z = np.array(list(pos.values()))
+    d = np.abs(z[:, None] - z[None, :]) + np.eye(z.size) * 1e9
+    return float(d.min() / max(float(np.abs(z - z.mean()).max()), 1e-12))
+
+
+def _barycentric(jg: Any, outer: list[Any]) -> dict[str, complex] | None:
     if len(outer) < 3 or len(set(outer)) != len(outer):
         return None
     pos: dict[str, complex] = {
@@ -196,7 +219,7 @@ def draw_chain(
     from matplotlib.patches import Circle, Polygon
 
     lay = chain_layout(m) if layout is None else layout
-    pin = 0.07
+    pin = min(0.07, 0.3 * _spacing(lay.pos)) if len(lay.pos) > 1 else 0.07
     colour = "#34495e"
     for link, js in lay.outline.items():
         z = [lay.pos[j] for j in js]
