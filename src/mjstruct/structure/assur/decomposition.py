@@ -141,6 +141,10 @@ def _pinned_groups(
         raise RuntimeError("a sub-chain is not isostatic although the whole is")
     placed = {pinned}
     reference = model.bodies[pinned].root
+    joints_of: dict[int, list[int]] = {}  # body -> indices of the joints touching it
+    for k, (_, touched) in enumerate(joints):
+        for body in touched:
+            joints_of.setdefault(body, []).append(k)
     for scc in _dependency_order(game.out, skip=0):
         mine = [order[v] for v in scc if v < len(order)]
         if not mine:
@@ -148,7 +152,8 @@ def _pinned_groups(
         mine_set = set(mine)
         external, internal, pins, pairs = [], [], 0, 0
         internal_bodies = []
-        for j, touched in joints:
+        near = sorted({k for body in mine for k in joints_of.get(body, ())})
+        for j, touched in (joints[k] for k in near):
             at = [b for b in touched if b in mine_set]
             if not at:
                 continue
