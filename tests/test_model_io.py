@@ -144,6 +144,9 @@ def test_dash_reads_standard_input(capsys, monkeypatch):
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b"{" * 20)))
     status, _, err = _cli(["analyze", "-"], capsys)
     assert status == 2 and "standard input: not valid JSON" in err
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b"")))
+    status, _, err = _cli(["analyze", "-"], capsys)
+    assert status == 2 and "standard input is empty" in err
 
 
 def test_deep_nesting_and_huge_numbers_are_bad_input(tmp_path, capsys):

@@ -69,6 +69,8 @@ def read_mechanism(path: str | Path, max_bytes: int | None = None) -> Mechanism:
         if len(data) > limit:
             raise MechanismError(f"-: standard input exceeds {_size(limit)}; {_RAISE}")
         text = _decode(data, "-")
+        if not text.strip():
+            raise MechanismError("-: standard input is empty (expected JSON or TOML)")
         toml = not text.lstrip().startswith(("{", "["))
         return parse_mechanism(text, toml=toml, source="standard input")
     p = Path(path)
