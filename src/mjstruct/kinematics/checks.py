@@ -143,7 +143,7 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
             dev = np.where(ok, np.abs(fd - sx), 0.0).max(axis=0)
             k = int(dev.argmax())
             err, at = float(dev[k]), float(q[k + 2])
-            big = float(np.abs(sx[:, ok]).max())
+            big = float(np.abs(sx).max(axis=0)[ok].max())
             if err == 0.0:
                 at = None
         r.checks["analogs_vs_differences"] = {

@@ -216,8 +216,9 @@ class KinematicModel:
                 ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K)
         valid = np.ones(qa.shape[0], bool)
         for pose in ev.poses.values():
-            for part in (pose.r, *pose.A, *pose.w):
-                valid &= np.isfinite(part)
+            # one test per link: a sum is finite only where every part is
+            total = pose.r + sum(pose.A) + sum(pose.w)
+            valid &= np.isfinite(total)
         if plan.unknowns == 0 and ev.residuals:
             # redundant constraints: they must hold along the motion, else it stops there
             worst = np.abs(ev.residual_matrix(0)).max(axis=1)

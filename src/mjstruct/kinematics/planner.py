@@ -151,13 +151,22 @@ def _run(
     topo: Topology,
     reference: str,
     groups: list[set[str]] | None,
+    per_group: bool = False,
 ) -> PlanState:
+    """Propagate group by group, then search for assumed angles where links are left.
+
+    ``per_group``: search each group as soon as propagation leaves it open (any number
+    of unknowns in all, at most three per group); else one search at the end (at most
+    three unknowns in all, the plans of the first pass).
+    """
     st = PlanState(m, geom, topo)
     step = st.add(Step("reference", (reference,)))
     st.place(reference, step, ())
     # the decomposition fixes the order; assumptions only where it leaves links open
     for group in groups or ():
         _propagate(st, set(group))
+        if per_group and not set(group) <= st.placed:
+            st = _search(st, 3, set(group))
     return _search(st, 3, None)
 
 
@@ -206,6 +215,14 @@ def plan_kinematics(
             best, source = st, src
             if st.unknowns == 0:
                 break  # triangles only: nothing better to find
+    if best is None and groups is not None:
+        # more open groups than one search can take: search group by group
+        for ref in refs:
+            st = _run(m, geom, topo, ref, groups, per_group=True)
+            if _complete(st) and (best is None or _cost(st) < _cost(best)):
+                best = st
+        if best is not None:
+            source = "assur"
     if best is None:
         st = _run(m, geom, topo, m.frame, None)
         missing = sorted(set(m.links) - st.placed)

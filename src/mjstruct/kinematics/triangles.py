@@ -72,10 +72,13 @@ class Pose:
         return out
 
 
-def _dot(a: Array, b: Array) -> Array:
+def dot(a: Array, b: Array) -> Array:
     """Scalar product of plane vectors stored as complex numbers."""
     out: Array = a.real * b.real + a.imag * b.imag
     return out
+
+
+_dot = dot
 
 
 def solve2(g1: Array, h1: Array, g2: Array, h2: Array) -> Array:

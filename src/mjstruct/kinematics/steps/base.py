@@ -327,16 +327,25 @@ class PlanState:
         return abs(self.geom.centres[a] - self.geom.centres[b]) <= COINCIDE * self.geom.scale
 
     def place(self, link: str, step: Step, used: tuple[str, ...] | list[str]) -> None:
-        """Mark ``link`` placed; its centres already known elsewhere become closures."""
+        """Mark ``link`` placed by ``step``, which used the joints ``used``.
+
+        Its other centres already known elsewhere, and its guides on links already
+        placed, become closure equations (close-point, close-slide).
+        """
         self.placed.add(link)
         for j in self.topo.revolute[link]:
             if j in self.known and j not in used:
                 other = next(x for x in self.m.joint(j).links if x in self.placed and x != link)
                 self.steps.append(Step("close-point", (link, other), joint=j))
             self._know(j)
-        # links sliding on this one may now have a guide: their dyads are candidates
         for g in self.topo.guides[link]:
-            self.push_joints_of(other_link(self.m, g, link))
+            other = other_link(self.m, g, link)
+            if other in self.placed:
+                if g not in used:
+                    self.steps.append(Step("close-slide", (link, other), joint=g))
+            else:
+                # the other link may now slide on a placed guide: its dyads are candidates
+                self.push_joints_of(other)
 
     def _know(self, joint: str) -> None:
         if joint in self.known:

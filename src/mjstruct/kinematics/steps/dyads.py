@@ -218,7 +218,7 @@ def _plan_revolute_dyad(st: PlanState, jid: str) -> bool:
                      diagonal=line_diagonal(st, kb[0], base))
             )  # fmt: skip
             st.place(b, step, (kb[0], jid))
-            st.place(c, step, (jid,))
+            st.place(c, step, (jid, guide))
             return True
     return False
 
@@ -237,8 +237,8 @@ def _plan_rpr(st: PlanState, jid: str) -> bool:
     step = st.add(
         Step("RPR", (b, c), joint=jid, inputs=(kb[0], kc[0]), diagonal=diagonal, checks=checks)
     )
-    st.place(b, step, kb)
-    st.place(c, step, kc)
+    st.place(b, step, (*kb, jid))
+    st.place(c, step, (*kc, jid))
     return True
 
 

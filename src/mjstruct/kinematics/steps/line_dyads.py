@@ -155,8 +155,8 @@ def _plan_prp(st: PlanState, jid: str) -> bool:
                 Step("PRP", (b, c), joint=jid, inputs=(gb, gc), base=bb,
                      diagonal=_guides_diagonal(st, bb, bc))
             )  # fmt: skip
-            st.place(b, step, (jid,))
-            st.place(c, step, (jid,))
+            st.place(b, step, (jid, gb))
+            st.place(c, step, (jid, gc))
             return True
     return False
 
@@ -180,8 +180,8 @@ def _plan_rpp(st: PlanState, jid: str) -> bool:
             Step("RPP", (b, c), joint=jid, inputs=(kb[0], gc), base=base,
                  diagonal=line_diagonal(st, kb[0], base))
         )  # fmt: skip
-        st.place(b, step, kb)
-        st.place(c, step, ())
+        st.place(b, step, (*kb, jid))
+        st.place(c, step, (jid, gc))
         return True
     return False
 
