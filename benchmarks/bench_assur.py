@@ -21,6 +21,7 @@ from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import assur_groups
+from mjstruct.structure.drivers import validate_drivers
 from mjstruct.structure.generic_mobility import generic_mobility
 from mjstruct.structure.pebble import pebble_rank
 from mjstruct.testing import random_mechanism
@@ -110,8 +111,10 @@ def main(argv: list[str] | None = None) -> int:
     t_pebble = t
     t, g = median_time(lambda: generic_mobility(m1000), 5)
     line("generic_mobility (rank + rigid parts), same", t, None, f"F_generic {g.F_generic}")
-    t, d = median_time(lambda: assur_groups(m1000), 3)
-    line("assur_groups, same chain", t, None, f"{len(d.groups)} groups")
+    t_assur, d = median_time(lambda: assur_groups(m1000), 3)
+    line("assur_groups, same chain", t_assur, None, f"{len(d.groups)} groups")
+    t, _ = median_time(lambda: validate_drivers(m1000), 5)
+    line("  its driver check (validate_drivers)", t, None, f"{t / t_assur:.0%} of it")
     mg = random_graph_chain(1000, 1499)
     t, r = median_time(lambda: pebble_rank(mg), 7)
     g = generic_mobility(mg)
