@@ -118,6 +118,12 @@ def run(args: argparse.Namespace) -> int:
     write_drawing(scene, args.output, dpi=args.dpi, name="-o")
     for w in scene.motion.warnings:
         sys.stderr.write(f"mjstruct draw: warning: {w}\n")
+    if not scene.motion.valid[-1]:
+        q_text = ", ".join(f"{v:.9g}" for v in scene.motion.q[-1])
+        sys.stderr.write(
+            f"mjstruct draw: warning: the mechanism does not assemble at q = {q_text} "
+            "(only the frame is drawn)\n"
+        )
     return 0
 
 

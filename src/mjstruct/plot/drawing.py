@@ -344,14 +344,15 @@ def _vector_sites(
     """(position, vector) over frames at each moving joint and point: v = σW, a = κW²."""
     out: list[tuple[ComplexArray, ComplexArray]] = []
     factor = speed**order
-    for j in model.mechanism.joints:
-        if _fixed(model, j.id) or _duplicate(model, j.id):
-            continue
-        jet = motion.centre(j.id)
-        out.append((_complex(jet[0]), _complex(jet[order]) * factor))
-    for link, z in model.geometry.points.values():
-        jet = motion.point(link, z)
-        out.append((_complex(jet[0]), _complex(jet[order]) * factor))
+    jets = [
+        motion.centre(j.id)
+        for j in model.mechanism.joints
+        if not _fixed(model, j.id) and not _duplicate(model, j.id)
+    ]
+    jets += [motion.point(link, z) for link, z in model.geometry.points.values()]
+    with np.errstate(invalid="ignore"):  # frames that do not assemble stay NaN
+        for jet in jets:
+            out.append((_complex(jet[0]), _complex(jet[order]) * factor))
     return out
 
 
