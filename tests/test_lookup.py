@@ -297,3 +297,32 @@ def test_names_are_printed_without_terminal_escapes(
     assert main(["lookup", str(ROOT / "catalogs" / "examples" / "watt.json"), "--json"]) == 0
     out = capsys.readouterr().out
     assert "\x1b" not in out and json.loads(out)["name"] == "Watt\x1b]0;owned\x07\x1b[2J"
+
+
+def test_interrupted_catalog_writing_keeps_the_old_files(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import os
+
+    from mjstruct.synthesis import catalog
+
+    monkeypatch.setattr(catalog, "SHIPPED", ((1, 4), (2, 5)))
+    old = tmp_path / "f2-n05.jsonl"
+    old.write_text("old\n")
+    real_replace = os.replace
+    calls: list[str] = []
+
+    def interrupt_second(src: str, dst: Path) -> None:
+        calls.append(str(dst))
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        real_replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", interrupt_second)
+    with pytest.raises(KeyboardInterrupt):
+        catalog.write_catalogs(tmp_path)
+    assert old.read_text() == "old\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f1-n04.jsonl", "f2-n05.jsonl"]
+    assert [json.loads(x)["id"] for x in (tmp_path / "f1-n04.jsonl").read_text().splitlines()] == [
+        "F1n4-0001"
+    ]

@@ -106,11 +106,26 @@ def write_catalogs(root: Path | None = None, workers: int = 1) -> dict[str, int]
     for F, n in SHIPPED:
         recs = catalog_records(F, n, workers=workers)
         path = catalog_file(F, n, root)
-        with path.open("w", encoding="utf-8") as fh:
-            for rec in recs:
-                fh.write(json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n")
+        text = "".join(
+            json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n" for rec in recs
+        )
+        _replace_file(path, text)
         counts[path.name] = len(recs)
     return counts
+
+
+def _replace_file(path: Path, text: str) -> None:
+    """Write ``text`` to a new file beside ``path`` and move it into place: an
+    interrupted run leaves the old catalog, never half of a new one."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
 
 
 def read_catalog(F: int, n: int) -> list[dict[str, Any]]:
