@@ -267,3 +267,40 @@ def test_public_functions_name_the_parameter_on_wrong_types(call, parameter):
     with pytest.raises(MechanismError) as info:
         call(mjstruct, m)
     assert str(info.value).startswith(parameter + ": ")
+
+
+TOML_PIECES = st.sampled_from(
+    [
+        'frame = "0"\n',
+        "frame = 0\n",
+        'drivers = ["O1"]\n',
+        "drivers = [1, 2]\n",
+        '[[joints]]\nid = "O1"\nlinks = ["0", "1"]\n',
+        '[[joints]]\nid = "A"\nlinks = ["1", "2"]\nat = [0, 1]\n',
+        '[[joints]]\nid = "B"\nlinks = ["2", "0"]\ntype = "P"\n',
+        "[[joints]]\nid = 7\nlinks = []\n",
+        '[[points]]\nid = "P"\nlink = "1"\nat = [1e400, 0]\n',
+        "x = 1979-05-27T07:32:00Z\n",
+        "nan = nan\n",
+        "[masses]\n",
+        '"joints" = 3\n',
+        "= broken\n",
+    ]
+)
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(TOML_PIECES, max_size=8), st.sampled_from(["analyze", "assur", "lookup"]))
+def test_any_toml_file_is_an_answer_or_bad_input(tmp_path_factory, pieces, command):
+    import contextlib
+    import io
+
+    from mjstruct.cli.main import main
+
+    path = tmp_path_factory.mktemp("fuzz") / "m.toml"
+    path.write_text("".join(pieces))
+    err = io.StringIO()
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+        status = main([command, str(path)])
+    assert status in (0, 2), err.getvalue()
+    assert err.getvalue().count("\n") == (status == 2)
