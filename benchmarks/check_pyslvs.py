@@ -9,7 +9,10 @@ input angle (positions must be the file's) and with the crank turned by 0.5 rad
 (positions must be mjstruct's kinematics at q = 0.5), and prints the largest
 distance of each.
 
-pyslvs needs its own interpreter when it does not install beside mjstruct::
+pyslvs needs its own interpreter when it does not install beside mjstruct (on
+Python 3.11 pyslvs 22.7.0 builds from source with Cython 3.0.0 and numpy < 2:
+``pip install cython==3.0.0 "numpy<2" setuptools wheel`` then
+``pip install --no-build-isolation pyslvs``)::
 
     python benchmarks/check_pyslvs.py                      # pyslvs importable here
     python benchmarks/check_pyslvs.py --python /path/to/python-with-pyslvs
