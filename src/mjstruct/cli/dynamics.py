@@ -1,12 +1,19 @@
-"""``mjstruct dynamics FILE``: inverse dynamics at constant speed, or free one-DOF motion."""
+"""``mjstruct dynamics FILE``: inverse dynamics at constant speed, free one-DOF motion
+(the equation of motion integrated in q), or motion in time (``--time T``)."""
 
 from __future__ import annotations
 
 import argparse
 import math
+from typing import TYPE_CHECKING
 
 from mjstruct.cli.output import driver_list, emit_json, emit_text
 from mjstruct.errors import MechanismError
+
+if TYPE_CHECKING:
+    from mjstruct.mechanism import Mechanism
+
+DEFAULT_FRAMES = 360
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -16,16 +23,32 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     mode.add_argument(
         "--qdot0", type=float, metavar="W0", help="free motion under the loads from speed W0"
     )
-    p.add_argument("--frames", type=int, default=360, help="frames over one cycle (default 360)")
+    mode.add_argument(
+        "--time", type=float, metavar="T", help="motion in time from t = 0 to T (one driver)"
+    )
+    p.add_argument(
+        "--frames",
+        type=int,
+        default=DEFAULT_FRAMES,
+        help="frames over one cycle (default 360; output times of --time: 201)",
+    )
     p.add_argument("--drivers", help="generalised coordinates J1,J2 (default: the file's)")
     p.add_argument(
         "--method",
         default="gauss",
         choices=("gauss", "trapezoid", "fft", "adaptive"),
-        help="work integral: gauss (default, exact at jumps), trapezoid or fft on 2^n steps, adaptive",
+        help="work integral: gauss (default; exact at jumps), trapezoid or fft on 2^n steps, "
+        "adaptive",
     )
-    p.add_argument("--n", type=int, default=10, help="2^n steps for trapezoid and fft (default 10)")
+    p.add_argument(
+        "--n", type=int, default=10, help="2^n steps for trapezoid and fft (default 10)"
+    )
     p.add_argument("--harmonics", type=int, help="Fourier terms kept by fft (default all)")
+    p.add_argument(
+        "--start-speed", type=float, metavar="W0", help="--time: speed at t = 0 (default 0)"
+    )
+    p.add_argument("--solver", help="--time: auto (default), DOP853, RK45, Radau, BDF, LSODA")
+    p.add_argument("--rtol", type=float, help="--time: relative tolerance (default 1e-8)")
     p.add_argument("--csv", metavar="OUT", help="write the table (q, qdot, ..., reactions) here")
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
@@ -39,6 +62,11 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
     if args.speed is not None and (not math.isfinite(args.speed) or args.speed == 0):
         raise MechanismError("--speed: must be a finite nonzero number")
+    for flag in ("start_speed", "rtol"):
+        if args.time is None and getattr(args, flag) is not None:
+            raise MechanismError(f"--{flag.replace('_', '-')}: only with --time")
+    if args.time is None and args.solver is not None:
+        raise MechanismError("--solver: only with --time")
     if args.qdot0 is not None and not math.isfinite(args.qdot0):
         raise MechanismError("--qdot0: must be a finite number")
     if not 1 <= args.n <= 24:
@@ -47,6 +75,8 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--harmonics: must be >= 0, got {args.harmonics}")
     m = read_mechanism(args.file)
     drivers = driver_list(args.drivers, m)
+    if args.time is not None:
+        return _run_time(args, m, drivers)
     try:
         r = dynamic_analysis(
             m,
@@ -73,4 +103,30 @@ def run(args: argparse.Namespace) -> int:
         emit_json(r.to_dict())
     else:
         emit_text(render(r))
+    return 0
+
+
+def _run_time(args: argparse.Namespace, m: Mechanism, drivers: list[str] | None) -> int:
+    from mjstruct.dynamics.time import time_command, time_csv, time_json, time_report
+
+    frames = args.frames if args.frames != DEFAULT_FRAMES else 201
+    r = time_command(
+        m,
+        args.time,
+        frames=frames,
+        start_speed=args.start_speed,
+        solver=args.solver,
+        rtol=args.rtol,
+        drivers=drivers,
+    )
+    if args.csv:
+        try:
+            with open(args.csv, "w") as fh:
+                fh.write(time_csv(r))
+        except OSError as exc:
+            raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None
+    if args.json:
+        emit_json(time_json(r))
+    else:
+        emit_text(time_report(r))
     return 0

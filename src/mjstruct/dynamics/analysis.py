@@ -14,12 +14,12 @@ Examples
 >>> round(r.parameters["p"] * 9 / 3.141592653589793, 9)     # p = 10π/9
 10.0
 >>> round(r.balance, 4), r.check < 1e-9
-(0.2564, True)
+(0.2632, True)
 """
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable, Mapping, Sequence
+from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,7 +27,14 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.dynamics.data import DynamicsData, read_dynamics
-from mjstruct.dynamics.equation import METHODS, PathForce, coefficients, free_motion, generalised_force, steady_parameter
+from mjstruct.dynamics.equation import (
+    METHODS,
+    PathForce,
+    coefficients,
+    free_motion,
+    generalised_force,
+    steady_parameter,
+)
 from mjstruct.dynamics.matrices import LinkMotion, active_forces, check_dimensions, link_motion
 from mjstruct.dynamics.reactions import (
     generalised_drive,
@@ -186,22 +193,30 @@ def dynamic_analysis(
     if frames < 1:
         raise MechanismError(f"frames: must be >= 1, got {frames}")
     if method not in METHODS:
-        raise MechanismError(f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})")
+        raise MechanismError(
+            f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})"
+        )
     wanted = set(outputs)
     unknown_out = wanted - set(OUTPUTS)
     if unknown_out:
-        raise MechanismError(f"outputs: unknown output {sorted(unknown_out)[0]!r} (one of {', '.join(OUTPUTS)})")
+        raise MechanismError(
+            f"outputs: unknown output {sorted(unknown_out)[0]!r} (one of {', '.join(OUTPUTS)})"
+        )
     data = read_dynamics(mechanism)
     if parameters:
-        for k, v in parameters.items():
-            if k not in data.parameters:
-                raise MechanismError(f"parameters: {k!r} is not a parameter of the file")
-            if not np.isfinite(v):
-                raise MechanismError(f"parameters: {k!r} must be finite")
+        for name, value in parameters.items():
+            if name not in data.parameters:
+                raise MechanismError(f"parameters: {name!r} is not a parameter of the file")
+            if not np.isfinite(value):
+                raise MechanismError(f"parameters: {name!r} must be finite")
         fixed = {**data.parameters, **{k: float(v) for k, v in parameters.items()}}
         data = DynamicsData(
-            data.inertia, data.gravity, fixed, None if data.unknown in parameters else data.unknown,
-            data.loads, data.energy_change,
+            data.inertia,
+            data.gravity,
+            fixed,
+            None if data.unknown in parameters else data.unknown,
+            data.loads,
+            data.energy_change,
         )
     if model is None:
         model = KinematicModel.build(mechanism, drivers)
@@ -226,8 +241,15 @@ def dynamic_analysis(
         qd = np.full(qs.shape, float(speed))
         qdd = np.zeros(qs.shape)
         result = DynamicsResult(
-            mechanism.name, "speed", model.drivers, qs, qd, qdd, parameters=params,
-            cycle_work=cycle, integration_error=err,
+            mechanism.name,
+            "speed",
+            model.drivers,
+            qs,
+            qd,
+            qdd,
+            parameters=params,
+            cycle_work=cycle,
+            integration_error=err,
         )
         if D == 1 and "coefficients" in wanted:
             mo = model.motion(qs, order=2)
@@ -249,10 +271,16 @@ def dynamic_analysis(
         mo = model.motion(qs, order=2)
         if not mo.valid.all():
             bad = float(qs[np.argmax(~mo.valid), 0])
-            raise MechanismError(f"qdot0: the mechanism does not assemble over the cycle (q = {bad:.9g}); free motion needs a full cycle")
+            raise MechanismError(
+                f"qdot0: the mechanism does not assemble over the cycle (q = {bad:.9g}); "
+                "free motion needs a full cycle"
+            )
         V, W = coefficients(mo, data, links)
         if not (V > 0).all():
-            raise MechanismError("inertia: the reduced inertia V is zero somewhere; free motion needs masses that move")
+            raise MechanismError(
+                "inertia: the reduced inertia V is zero somewhere; "
+                "free motion needs masses that move"
+            )
         fm = free_motion(path, u, V, W, float(qdot0), method, n, harmonics)
         k = fm.kept
         if fm.stop is not None:
@@ -262,28 +290,59 @@ def dynamic_analysis(
             )
         qd = fm.qdot[:, None]
         qdd = fm.qddot[:, None]
-        Qv = generalised_force(mo, data, links, qs[:, 0], np.concatenate([fm.qdot, np.zeros(frames - k)]), [fm.parameters])[0]
+        Qv = generalised_force(
+            mo,
+            data,
+            links,
+            qs[:, 0],
+            np.concatenate([fm.qdot, np.zeros(frames - k)]),
+            [fm.parameters],
+        )[0]
         result = DynamicsResult(
-            mechanism.name, "free", model.drivers, qs[:k], qd, qdd,
-            V=V[:k], W=W[:k], Q=Qv[:k], balance=_balance(V[:k]),
-            parameters=fm.parameters, cycle_work=fm.cycle_work, integration_error=fm.error,
+            mechanism.name,
+            "free",
+            model.drivers,
+            qs[:k],
+            qd,
+            qdd,
+            V=V[:k],
+            W=W[:k],
+            Q=Qv[:k],
+            balance=_balance(V[:k]),
+            parameters=fm.parameters,
+            cycle_work=fm.cycle_work,
+            integration_error=fm.error,
         )
         if need_forces:
-            lm = link_motion(model, data.inertia, qs[:k], qd, qdd, motion=mo if k == frames else None)
-            result = _forces(result, model, data, lm, fm.parameters, wanted, joints, warnings, free=True)
+            lm = link_motion(
+                model, data.inertia, qs[:k], qd, qdd, motion=mo if k == frames else None
+            )
+            result = _forces(
+                result, model, data, lm, fm.parameters, wanted, joints, warnings, free=True
+            )
     else:
+        assert q is not None
         qa = model.driver_values(q)
         F = qa.shape[0]
         if qdot is None:
             raise MechanismError("qdot: a prescribed motion needs the driver speeds")
         qd = np.broadcast_to(np.asarray(qdot, float).reshape(-1, D), (F, D)).copy()
-        qdd = (np.zeros((F, D)) if qddot is None else np.broadcast_to(np.asarray(qddot, float).reshape(-1, D), (F, D)).copy())
+        qdd = (
+            np.zeros((F, D))
+            if qddot is None
+            else np.broadcast_to(np.asarray(qddot, float).reshape(-1, D), (F, D)).copy()
+        )
         if not (np.isfinite(qd).all() and np.isfinite(qdd).all()):
             raise MechanismError("qdot: speeds and accelerations must be finite")
         if data.unknown is not None:
-            raise MechanismError(f"parameters.{data.unknown}: a prescribed motion needs its value (pass parameters=)")
+            raise MechanismError(
+                f"parameters.{data.unknown}: a prescribed motion needs its value "
+                "(pass parameters=)"
+            )
         params = data.parameter_values()
-        result = DynamicsResult(mechanism.name, "prescribed", model.drivers, qa, qd, qdd, parameters=params)
+        result = DynamicsResult(
+            mechanism.name, "prescribed", model.drivers, qa, qd, qdd, parameters=params
+        )
         if D == 1 and "coefficients" in wanted:
             mo = model.motion(qa, order=2)
             V, W = coefficients(mo, data, links)
@@ -336,17 +395,26 @@ def _forces(
     x, solved = solve_stack(A, S)
     if (ok & ~solved).any():
         bad = float(lm.q[np.argmax(ok & ~solved), 0])
-        warnings.append(f"the joint loads are not determined at {int((ok & ~solved).sum())} frame(s) (a singular position; first q = {bad:.9g}); their values are null")
+        warnings.append(
+            f"the joint loads are not determined at {int((ok & ~solved).sum())} frame(s) "
+            f"(a singular position; first q = {bad:.9g}); their values are null"
+        )
     if (~ok).any():
-        warnings.append(f"the mechanism does not assemble at {int((~ok).sum())} frame(s) (first q = {float(lm.q[np.argmax(~ok), 0]):.9g}); their values are null")
+        warnings.append(
+            f"the mechanism does not assemble at {int((~ok).sum())} frame(s) "
+            f"(first q = {float(lm.q[np.argmax(~ok), 0]):.9g}); their values are null"
+        )
     solved &= ok
     with np.errstate(all="ignore"):
-        cond = np.where(solved, np.linalg.cond(np.where(solved[:, None, None], A, np.eye(A.shape[1]))), np.nan)
+        cond = np.where(
+            solved, np.linalg.cond(np.where(solved[:, None, None], A, np.eye(A.shape[1]))), np.nan
+        )
     worst = np.nanargmax(cond) if np.isfinite(cond).any() else None
     if worst is not None and cond[worst] > ILL_CONDITIONED:
         warnings.append(
-            f"near-singular position: the link equations' condition number reaches {cond[worst]:.3g} "
-            f"at q = {float(lm.q[worst, 0]):.9g}; reactions there carry about {np.log10(cond[worst]):.0f} digits less"
+            "near-singular position: the link equations' condition number reaches "
+            f"{cond[worst]:.3g} at q = {float(lm.q[worst, 0]):.9g}; reactions there carry "
+            f"about {np.log10(cond[worst]):.0f} digits less"
         )
     ell = model.scale
     drive_cols = [c for c, u in enumerate(cols) if u.kind == "drive"]
@@ -361,7 +429,10 @@ def _forces(
         else:
             moments.append(np.abs(x[:, c])[None])
     with np.errstate(all="ignore"):
-        big = np.maximum(np.nanmax(np.concatenate(forces), axis=0), np.nanmax(np.concatenate(moments), axis=0) / ell)
+        big = np.maximum(
+            np.nanmax(np.concatenate(forces), axis=0),
+            np.nanmax(np.concatenate(moments), axis=0) / ell,
+        )
         unit = np.array([ell if m.joint(d).kind == "R" else 1.0 for d in model.drivers])
         rel = np.abs(tau_sys - tau_eom) / (big[None] * unit[:, None])
         rel = np.where(big[None] > 0, rel, np.abs(tau_sys - tau_eom))

@@ -15,7 +15,7 @@ Examples
 ...     {"id": "P", "links": [0, 3], "type": "P", "at": [3, 0], "axis": [1, 0]}],
 ...     "inertia": {"1": {"mass": 1.0}, "3": {"mass": 0.5}},
 ...     "parameters": {"M": 10, "p": None},
-...     "loads": [{"link": "1", "moment": "-M"}]})
+...     "loads": [{"link": "1", "moment": "-M"}, {"link": "3", "force": ["p", 0]}]})
 >>> d = read_dynamics(m)
 >>> d.unknown, d.inertia["1"].com, d.inertia["2"].mass
 ('p', (0.5+0j), 0.0)
@@ -144,7 +144,9 @@ class DynamicsData:
         import sympy
 
         p = sympy.Symbol(self.unknown, real=True)
-        return all(sympy.diff(e, p).free_symbols.isdisjoint({p}) for ld in self.loads for e in ld.exprs)
+        return all(
+            sympy.diff(e, p).free_symbols.isdisjoint({p}) for ld in self.loads for e in ld.exprs
+        )
 
 
 def _number(value: Any, where: str, minimum: float | None = None) -> float:
@@ -244,7 +246,9 @@ def read_dynamics(m: Mechanism) -> DynamicsData:
         if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
             raise MechanismError(f"{where}: a parameter name must be an identifier")
         if name in reserved:
-            raise MechanismError(f"{where}: {name!r} is reserved (a variable, constant or function)")
+            raise MechanismError(
+                f"{where}: {name!r} is reserved (a variable, constant or function)"
+            )
         parameters[name] = None if value is None else _number(value, where)
     unknowns = [k for k, v in parameters.items() if v is None]
     if len(unknowns) > 1:
@@ -258,7 +262,9 @@ def read_dynamics(m: Mechanism) -> DynamicsData:
     raw_loads = extra.get("loads", [])
     if not isinstance(raw_loads, list):
         raise MechanismError("loads: must be a list")
-    loads = tuple(_read_load(spec, k, m, inertia, list(parameters)) for k, spec in enumerate(raw_loads))
+    loads = tuple(
+        _read_load(spec, k, m, inertia, list(parameters)) for k, spec in enumerate(raw_loads)
+    )
     if unknowns and not any(
         unknowns[0] in {s.name for e in ld.exprs for s in e.free_symbols} for ld in loads
     ):

@@ -38,6 +38,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -79,7 +80,9 @@ def inertia(mo: Motion, data: DynamicsData, links: Sequence[str]) -> FloatArray:
     return V
 
 
-def coefficients(mo: Motion, data: DynamicsData, links: Sequence[str]) -> tuple[FloatArray, FloatArray]:
+def coefficients(
+    mo: Motion, data: DynamicsData, links: Sequence[str]
+) -> tuple[FloatArray, FloatArray]:
     """``V = Σ m|σ_c|² + J σ_θ²`` and ``W = Σ m σ_c·κ_c + J σ_θ κ_θ`` over the frames.
 
     ``mo`` must carry second derivatives along the path (order 2).
@@ -225,7 +228,7 @@ def _roots(
         def g(u: float) -> float:
             return float(np.asarray(fn(qmap([u])[0, 0]), float))
 
-        out.append(float(brentq(g, grid[i], grid[i + 1], xtol=1e-15, rtol=4e-16)))
+        out.append(float(brentq(g, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15)))
     return out
 
 
@@ -364,7 +367,7 @@ def work_integral(
             return f(np.array([u]))[:, 0]
 
         parts, errs = [], []
-        for a0, b0 in zip(edges[:-1], edges[1:], strict=True):
+        for a0, b0 in itertools.pairwise(edges):
             inner = [float(x) for x in brk if a0 < x < b0]
             val, e = quad_vec(fs, a0, b0, epsabs=1e-13, epsrel=1e-12, points=inner or None)
             parts.append(val)
@@ -450,7 +453,9 @@ def steady_parameter(
 
     sol = root_scalar(residual, x0=0.0, x1=1.0, method="secant", xtol=1e-14, rtol=1e-13)
     if not sol.converged or not np.isfinite(sol.root):
-        raise NumericalError(f"parameters.{p}: no value makes the cycle work {data.energy_change:g}")
+        raise NumericalError(
+            f"parameters.{p}: no value makes the cycle work {data.energy_change:g}"
+        )
     params = data.parameter_values(**{p: float(sol.root)})
     c, e = cycle([params])
     return params, float(c[0]), float(e[0])
@@ -561,7 +566,8 @@ def _free_motion_ode(
             mo = path.motion([x], 1)
             Vx = inertia(mo, data, path.links)[0]
             qd = s * np.sqrt(max(2 * y[0], 0.0) / Vx)
-            return generalised_force(mo, data, path.links, mo.q[:, 0], qd, [params])[0]
+            dE: FloatArray = generalised_force(mo, data, path.links, mo.q[:, 0], qd, [params])[0]
+            return dE
 
         def stopped(x: float, y: FloatArray) -> float:
             return float(y[0])
@@ -570,10 +576,16 @@ def _free_motion_ode(
         stopped.direction = -1  # type: ignore[attr-defined]
         y = E0
         out: list[float] = []
-        for a, b in zip(edges[:-1], edges[1:], strict=True):
+        for a, b in itertools.pairwise(edges):
             sol = solve_ivp(
-                rhs, (a, b), [y], method="DOP853", rtol=rtol, atol=1e-14 * (abs(E0) + 1.0),
-                events=stopped, dense_output=True,
+                rhs,
+                (a, b),
+                [y],
+                method="DOP853",
+                rtol=rtol,
+                atol=1e-14 * (abs(E0) + 1.0),
+                events=stopped,
+                dense_output=True,
             )
             inside = u[(u >= a) & ((u < b) | ((b == T) & (u <= b)))]
             if sol.status == 1 and len(sol.t_events[0]):
@@ -597,14 +609,21 @@ def _free_motion_ode(
                     f"parameters.{p}: the motion stops at q = {q_stop:.9g} before the cycle ends "
                     f"for {p} = {x:.9g} (give a larger qdot0)"
                 )
-            return end - E0 - data.energy_change
+            return float(end - E0 - data.energy_change)
 
         guess = steady_parameter(path, qdot0)[0][p]
         root = root_scalar(
-            residual, x0=guess, x1=guess * (1 + 1e-3) + 1e-6, method="secant", xtol=1e-13, rtol=1e-12
+            residual,
+            x0=guess,
+            x1=guess * (1 + 1e-3) + 1e-6,
+            method="secant",
+            xtol=1e-13,
+            rtol=1e-12,
         )
         if not root.converged:
-            raise NumericalError(f"parameters.{p}: no value gives the cycle work {data.energy_change:g}")
+            raise NumericalError(
+                f"parameters.{p}: no value gives the cycle work {data.energy_change:g}"
+            )
         params = data.parameter_values(**{p: float(root.root)})
     else:
         params = data.parameter_values()

@@ -66,11 +66,11 @@ def incidence(m: Mechanism) -> tuple[npt.NDArray[np.int8], list[tuple[str, str]]
 
 def inertia_matrix(links: Sequence[str], inertia: Mapping[str, LinkInertia]) -> FloatArray:
     """``I`` (3 × moving links): rows mass, mass, central moment of inertia."""
-    I = np.zeros((3, len(links)))
+    out = np.zeros((3, len(links)))
     for j, link in enumerate(links):
-        I[0, j] = I[1, j] = inertia[link].mass
-        I[2, j] = inertia[link].J
-    return I
+        out[0, j] = out[1, j] = inertia[link].mass
+        out[2, j] = inertia[link].J
+    return out
 
 
 @dataclass(frozen=True)
@@ -122,10 +122,13 @@ class LinkMotion:
         return np.stack([d.real, d.imag])
 
 
-def _jets(mo: Motion, links: Sequence[str], inertia: Mapping[str, LinkInertia], order: int) -> tuple[
-    list[ComplexArray], list[FloatArray]
-]:
-    c = [np.stack([mo.point(link, inertia[link].com)[k] for link in links]) for k in range(order + 1)]
+def _jets(
+    mo: Motion, links: Sequence[str], inertia: Mapping[str, LinkInertia], order: int
+) -> tuple[list[ComplexArray], list[FloatArray]]:
+    c = [
+        np.stack([mo.point(link, inertia[link].com)[k] for link in links])
+        for k in range(order + 1)
+    ]
     th = [np.stack([mo.angle(link)[k] for link in links]) for k in range(order + 1)]
     return c, th
 
@@ -156,8 +159,15 @@ def link_motion(
     m = model.mechanism
     qa = model.driver_values(q)
     F, D = qa.shape
-    qd = np.broadcast_to(np.asarray(qdot, float).reshape(-1, D) if np.ndim(qdot) else np.full((1, D), float(qdot)), (F, D))
-    qdd = np.zeros((F, D)) if qddot is None else np.broadcast_to(np.asarray(qddot, float).reshape(-1, D), (F, D))
+    qd = np.broadcast_to(
+        np.asarray(qdot, float).reshape(-1, D),
+        (F, D),
+    )
+    qdd = (
+        np.zeros((F, D))
+        if qddot is None
+        else np.broadcast_to(np.asarray(qddot, float).reshape(-1, D), (F, D))
+    )
     links = tuple(x for x in m.links if x != model.frame)
     if D == 1:
         mo = motion if motion is not None else model.motion(qa, order=2)
@@ -189,7 +199,8 @@ def link_motion(
             hess: dict[tuple[int, int], tuple[ComplexArray, FloatArray]] = {}
             for i in range(D):
                 for k in range(i, D):
-                    cc, tt = _jets(model.motion(qa, order=2, rates=eye[i] + eye[k]), links, inertia, 2)
+                    direction = eye[i] if i == k else eye[i] + eye[k]
+                    cc, tt = _jets(model.motion(qa, order=2, rates=direction), links, inertia, 2)
                     hess[(i, k)] = (cc[2], tt[2])
             for i in range(D):
                 ac = ac + hess[(i, i)][0] * qd[:, i] ** 2
@@ -210,7 +221,9 @@ def link_motion(
     for j in m.joints:
         if j.kind == "P":
             base = j.links[0]
-            turn = mo.angle(base)[0] - geom.char_angle[base] if base != model.frame else np.zeros(F)
+            turn = (
+                mo.angle(base)[0] - geom.char_angle[base] if base != model.frame else np.zeros(F)
+            )
             axis[j.id] = geom.axes[j.id] * np.exp(1j * turn)
     return LinkMotion(links, joints, qa, com, ang, sig_c, sig_t, centre, axis, valid, mo)
 

@@ -89,9 +89,7 @@ def system_matrix(model: KinematicModel, lm: LinkMotion, cols: Sequence[Unknown]
             f, mu = np.full(F, 1j), np.zeros(F)
         elif u.kind == "n":
             f, mu = 1j * lm.axis[u.joint], np.zeros(F)
-        elif u.kind == "m":
-            f, mu = np.zeros(F, complex), np.ones(F)
-        elif joint.kind == "R":  # revolute drive: a couple
+        elif u.kind == "m" or joint.kind == "R":  # a slider's moment, a revolute drive's couple
             f, mu = np.zeros(F, complex), np.ones(F)
         else:  # prismatic drive: a force along the guide
             f, mu = lm.axis[u.joint].astype(complex), np.zeros(F)
@@ -111,21 +109,23 @@ def solve_stack(A: FloatArray, S: FloatArray) -> tuple[FloatArray, BoolArray]:
 
     Returns the solutions (frames × u) and a mask of the frames solved.
     """
-    ok = np.isfinite(A).all(axis=(1, 2)) & np.isfinite(S).all(axis=1)
+    ok: BoolArray = np.asarray(np.isfinite(A).all(axis=(1, 2)) & np.isfinite(S).all(axis=1))
     A_ok = np.where(ok[:, None, None], A, np.eye(A.shape[1])[None])
     S_ok = np.where(ok[:, None], S, 0.0)
     try:
         x = np.linalg.solve(A_ok, -S_ok[..., None])[..., 0]
     except np.linalg.LinAlgError:
         sv = np.linalg.svd(A_ok, compute_uv=False)
-        ok &= sv[:, -1] > SINGULAR * sv[:, 0]
+        ok = ok & np.asarray(sv[:, -1] > SINGULAR * sv[:, 0])
         A_ok = np.where(ok[:, None, None], A_ok, np.eye(A.shape[1])[None])
         x = np.linalg.solve(A_ok, -S_ok[..., None])[..., 0]
     x[~ok] = np.nan
     return x, ok
 
 
-def inertia_loads(lm: LinkMotion, mass: FloatArray, J: FloatArray) -> tuple[ComplexArray, FloatArray]:
+def inertia_loads(
+    lm: LinkMotion, mass: FloatArray, J: FloatArray
+) -> tuple[ComplexArray, FloatArray]:
     """Inertia loads ``Φ = −I a`` at the centres of mass: force (complex) and moment."""
     return -mass[:, None] * lm.com[2], -J[:, None] * lm.angle[2]
 
@@ -146,6 +146,9 @@ def generalised_drive(lm: LinkMotion, force: ComplexArray, moment: FloatArray) -
     ``force``, ``moment`` are the total (active + inertia) loads at the centres of mass;
     the result is drivers × frames.
     """
-    work = (force[None].real * lm.sigma_com.real + force[None].imag * lm.sigma_com.imag).sum(axis=1)
+    work = (force[None].real * lm.sigma_com.real + force[None].imag * lm.sigma_com.imag).sum(
+        axis=1
+    )
     work += (moment[None] * lm.sigma_angle).sum(axis=1)
-    return -work
+    out: FloatArray = -work
+    return out

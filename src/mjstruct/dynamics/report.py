@@ -39,14 +39,21 @@ def render(r: DynamicsResult) -> str:
         "free": f"free motion under the loads from qdot0 = {_fmt(float(r.qdot[0, 0]))}",
         "prescribed": "prescribed motion",
     }[r.mode]
-    lines = [f"{r.name or 'mechanism'}: {mode}", f"  frames {len(q)}, drivers {', '.join(r.drivers)}"]
+    lines = [
+        f"{r.name or 'mechanism'}: {mode}",
+        f"  frames {len(q)}, drivers {', '.join(r.drivers)}",
+    ]
     if r.parameters:
         lines.append("parameters:")
         lines.append(_table(sorted(r.parameters.items())))
     if r.cycle_work is not None:
         lines.append(
             f"cycle work of the loads {_fmt(r.cycle_work)}"
-            + (f" (integration error ~ {_fmt(r.integration_error)})" if r.integration_error is not None else "")
+            + (
+                f" (integration error ~ {_fmt(r.integration_error)})"
+                if r.integration_error is not None
+                else ""
+            )
         )
     if r.balance is not None and r.V is not None:
         lines.append(
@@ -60,7 +67,9 @@ def render(r: DynamicsResult) -> str:
         for d, v in r.driving.items():
             if np.isfinite(v).any():
                 k = int(np.nanargmax(np.abs(v)))
-                lines.append(f"actuator at {d}: largest {_fmt(float(v[k]))} at q = {_fmt(float(q[k]))}")
+                lines.append(
+                    f"actuator at {d}: largest {_fmt(float(v[k]))} at q = {_fmt(float(q[k]))}"
+                )
     if r.reactions:
         rows = []
         for jid, per in r.reactions.items():
@@ -75,8 +84,8 @@ def render(r: DynamicsResult) -> str:
                 rows.append((best[0], jid, best[1], best[2]))
         rows.sort(reverse=True)
         lines.append("largest joint loads |R| (joint, on link, at q):")
-        for mag, jid, link, qk in rows[:8]:
-            lines.append(f"  {jid} on {link}: {_fmt(mag)} at q = {_fmt(qk)}")
+        for size, jid, link, qk in rows[:8]:
+            lines.append(f"  {jid} on {link}: {_fmt(size)} at q = {_fmt(qk)}")
     if r.residual is not None:
         lines.append(f"check (excluded equation, relative residual): {_fmt(r.check)}")
     for w in r.warnings:
@@ -86,7 +95,11 @@ def render(r: DynamicsResult) -> str:
 
 def write_csv(r: DynamicsResult, path: str | Path) -> None:
     """One row per frame: q, qdot, qddot, V, W, Q, actuator loads, reactions."""
-    cols: list[tuple[str, np.ndarray]] = [("q", r.q[:, 0]), ("qdot", r.qdot[:, 0]), ("qddot", r.qddot[:, 0])]
+    cols: list[tuple[str, np.ndarray]] = [
+        ("q", r.q[:, 0]),
+        ("qdot", r.qdot[:, 0]),
+        ("qddot", r.qddot[:, 0]),
+    ]
     for name in ("V", "W", "Q"):
         v = getattr(r, name)
         if v is not None:
