@@ -12,6 +12,11 @@ on a two-DOF chain are one redundant and one missing when one of them sits insid
 rigid sub-chain; and a slider-crank driven at ``O1`` and ``A`` is over-constrained
 (the slider is held by the welded rod and the guide), not under-driven.
 
+References
+----------
+A. Lee, I. Streinu, "Pebble game algorithms and sparse graphs", Discrete Mathematics
+308 (8), 2008, pp. 1425-1437.
+
 Examples
 --------
 >>> from mjstruct.mechanism import Mechanism
