@@ -329,3 +329,46 @@ def test_draw_without_geometry_is_the_structural_scheme(tmp_path, capsys):
         ["draw", ex("watt"), "--show", "velocity", "-o", str(tmp_path / "w.svg")],
         "--show: needs joint centres",
     )
+
+
+def test_json_summaries(tmp_path, capsys):
+    import json
+
+    out = tmp_path / "a.gif"
+    argv = ["animate", ex("four-bar"), "--frames", "5", "--dpi", "20", "--json", "-o", str(out)]
+    assert main(argv) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d == {"output": str(out), "frames": 5, "layers": [], "gaps": [],
+                 "branch_points": [], "warnings": []}  # fmt: skip
+    argv = ["draw", ex("slider-crank"), "--q", "2", "--json", "-o", str(tmp_path / "d.svg")]
+    assert main(argv) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["q"] == [2.0] and d["assembles"] is True
+
+
+def test_progress_bar_only_on_a_terminal(tmp_path, monkeypatch, capsys):
+    import io
+    import sys
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    term = Terminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    argv = [
+        "animate",
+        ex("four-bar"),
+        "--frames",
+        "3",
+        "--dpi",
+        "20",
+        "-o",
+        str(tmp_path / "a.gif"),
+    ]
+    assert main(argv) == 0
+    assert "3/3" in term.getvalue() and term.getvalue().startswith("\ranimate")
+    term2 = Terminal()
+    monkeypatch.setattr(sys, "stderr", term2)
+    assert main([*argv[:-2], "--json", "-o", str(tmp_path / "b.gif")]) == 0
+    assert term2.getvalue() == ""  # never with --json

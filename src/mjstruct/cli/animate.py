@@ -4,9 +4,15 @@ with the layers chosen by ``--show``; a progress bar on a terminal (stderr)."""
 from __future__ import annotations
 
 import argparse
-import sys
 
-from mjstruct.cli.draw import add_layer_arguments, add_model_arguments, layer_options, read_model
+from mjstruct.cli.draw import (
+    add_layer_arguments,
+    add_model_arguments,
+    add_output_arguments,
+    finish,
+    layer_options,
+    read_model,
+)
 from mjstruct.errors import MechanismError
 
 
@@ -16,9 +22,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_layer_arguments(p)
     p.add_argument("--fps", type=int, default=20, help="frames per second (default 20)")
     p.add_argument("--dpi", type=int, default=80, help="resolution of each frame (default 80)")
-    p.add_argument(
-        "-o", "--output", required=True, help="output file: .gif, .html, or .mp4 (needs ffmpeg)"
-    )
+    add_output_arguments(p, ".gif, .html, or .mp4 (needs ffmpeg)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,16 +53,19 @@ def run(args: argparse.Namespace) -> int:
     scene = scene_over_cycle(
         model, args.frames, layers, speed=args.speed, paths=paths, stroke=args.stroke
     )
-    bar = ProgressBar.for_cli("animate", json_output=False)
+    bar = ProgressBar.for_cli("animate", json_output=args.json)
     write_animation(scene, args.output, fps=args.fps, dpi=args.dpi, progress=bar, name="-o")
-    bad = int((~scene.motion.valid).sum())
-    if bad:
-        sys.stderr.write(
-            f"mjstruct animate: note: {bad} of {args.frames} frames do not assemble "
-            "(drawn as gaps)\n"
-        )
-    for w in scene.motion.warnings:
-        sys.stderr.write(f"mjstruct animate: warning: {w}\n")
-    for e in scene.motion.events:
-        sys.stderr.write(f"mjstruct animate: {e.message()}\n")
-    return 0
+    mo = scene.motion
+    gaps = [float(q) for q in mo.q[~mo.valid, 0]]
+    warnings = list(mo.warnings) + [e.message() for e in mo.events]
+    if gaps:
+        warnings.insert(0, f"{len(gaps)} of {args.frames} frames do not assemble (drawn as gaps)")
+    info = {
+        "frames": args.frames,
+        "layers": list(layers),
+        "gaps": gaps,
+        "branch_points": [
+            {"q": e.q, "frame": e.frame, "joint": e.joint, "kind": e.kind} for e in mo.events
+        ],
+    }
+    return finish(args, "animate", info, warnings)

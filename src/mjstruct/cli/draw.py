@@ -44,8 +44,27 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--q", help="driver value(s) Q1,Q2 to draw at (default: the reference configuration)"
     )
     add_layer_arguments(p)
-    p.add_argument("-o", "--output", required=True, help="output file: .svg, .png or .pdf")
+    add_output_arguments(p, ".svg, .png or .pdf")
     p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
+
+
+def add_output_arguments(p: argparse.ArgumentParser, formats: str) -> None:
+    p.add_argument("-o", "--output", required=True, help=f"output file: {formats}")
+    p.add_argument("--json", action="store_true", help="print what was written as one JSON object")
+
+
+def finish(
+    args: argparse.Namespace, command: str, info: dict[str, Any], warnings: list[str]
+) -> int:
+    """Print the written file's summary (``--json``) or the warnings on stderr."""
+    if args.json:
+        from mjstruct.cli.output import emit_json
+
+        emit_json({"output": args.output, **info, "warnings": warnings})
+    else:
+        for w in warnings:
+            sys.stderr.write(f"mjstruct {command}: warning: {w}\n")
+    return 0
 
 
 def read_model(args: argparse.Namespace) -> KinematicModel:
@@ -116,15 +135,15 @@ def run(args: argparse.Namespace) -> int:
 
     scene = scene_at(model, q, layers, speed=args.speed, paths=paths, stroke=args.stroke)
     write_drawing(scene, args.output, dpi=args.dpi, name="-o")
-    for w in scene.motion.warnings:
-        sys.stderr.write(f"mjstruct draw: warning: {w}\n")
-    if not scene.motion.valid[-1]:
+    warnings = list(scene.motion.warnings)
+    ok = bool(scene.motion.valid[-1])
+    if not ok:
         q_text = ", ".join(f"{v:.9g}" for v in scene.motion.q[-1])
-        sys.stderr.write(
-            f"mjstruct draw: warning: the mechanism does not assemble at q = {q_text} "
-            "(only the frame is drawn)\n"
+        warnings.append(
+            f"the mechanism does not assemble at q = {q_text} (only the frame is drawn)"
         )
-    return 0
+    info = {"layers": list(layers), "q": [float(v) for v in scene.motion.q[-1]], "assembles": ok}
+    return finish(args, "draw", info, warnings)
 
 
 def _structural(args: argparse.Namespace, m: Any) -> int:
@@ -155,4 +174,4 @@ def _structural(args: argparse.Namespace, m: Any) -> int:
         write_atomically(args.output, lambda tmp: fig.savefig(tmp, dpi=args.dpi), name="-o")
     finally:
         plt.close(fig)
-    return 0
+    return finish(args, "draw", {"layers": [], "q": None, "assembles": None}, [])

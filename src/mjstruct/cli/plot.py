@@ -6,9 +6,8 @@ determinant, a four-bar's transmission angle); the charts are listed in
 from __future__ import annotations
 
 import argparse
-import sys
 
-from mjstruct.cli.draw import add_model_arguments, read_model
+from mjstruct.cli.draw import add_model_arguments, add_output_arguments, finish, read_model
 from mjstruct.errors import MechanismError
 
 
@@ -22,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--ids",
         help="links (angles, omega, eps) or joints/points (paths) to plot, comma-separated",
     )
-    p.add_argument("-o", "--output", required=True, help="output file: .svg, .png or .pdf")
+    add_output_arguments(p, ".svg, .png or .pdf")
     p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
 
 
@@ -67,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
         write_atomically(args.output, lambda tmp: fig.savefig(tmp, dpi=args.dpi), name="-o")
     finally:
         plt.close(fig)
+    warnings = []
     if not fig.axes or not any(ax.get_lines() for ax in fig.axes):
-        sys.stderr.write("mjstruct plot: warning: nothing to plot\n")
-    return 0
+        warnings.append("nothing to plot")
+    return finish(args, "plot", {"what": args.what, "frames": args.frames}, warnings)
