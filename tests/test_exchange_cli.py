@@ -76,7 +76,6 @@ def test_pin_slot_refused_with_exit_2_and_nothing_written(capsys, tmp_path):
         (["watt.json", "-o", "w.pmks"], r"joints\[0\]\.at: missing"),
         (["four-bar.json"], "--to: name the output format"),
         (["four-bar.json", "--to", "pyslvs", "--json"], "--json: needs -o"),
-        (["four-bar.json", "-o", "x.pyslvs"], "a .pyslvs file is a pyslvs project"),
         (["four-bar.json", "-o", "x.txt"], "unknown suffix '.txt'"),
         (["four-bar.json", "-o", "x.pmks", "--drivers", "Z"], "--drivers: 'Z' is not a joint"),
         (["missing.json", "-o", "x.pmks"], "no such file"),
@@ -90,3 +89,15 @@ def test_bad_usage_exits_2_with_one_line(capsys, tmp_path, monkeypatch, argv, me
     assert err.count("\n") == 1
     assert re.search(message, err)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_pyslvs_project_in_and_out(capsys, tmp_path):
+    status, _, _ = run(capsys, "convert", DATA / "crank-rocker.pyslvs", "-o", tmp_path / "c.json")
+    assert status == 0
+    m = read_mechanism(tmp_path / "c.json")
+    assert m.drivers == ("P0",) and m.frame == "ground"
+    src = EXAMPLES / "zhivago-dynamics.json"
+    assert run(capsys, "convert", src, "-o", tmp_path / "z.pyslvs")[0] == 0
+    assert "input:" in (tmp_path / "z.pyslvs").read_text()
+    assert run(capsys, "convert", tmp_path / "z.pyslvs", "-o", tmp_path / "z.json")[0] == 0
+    assert read_mechanism(tmp_path / "z.json") == read_mechanism(src)

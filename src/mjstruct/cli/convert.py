@@ -1,5 +1,5 @@
 """``mjstruct convert IN [-o OUT]``: a mechanism from one exchange format to another
-(mechanism JSON/TOML, pyslvs expression, GraphML, node-link JSON), by suffix or by
+(mechanism JSON/TOML, pyslvs expression or project, GraphML, node-link JSON), by suffix or by
 ``--from``/``--to``; nothing is written when the input cannot be represented."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import sys
 
 from mjstruct.cli.output import driver_list, emit_json
 
-_FORMATS = ("json", "toml", "pyslvs", "graphml", "node-link")
+_FORMATS = ("json", "toml", "pyslvs", "pyslvs-project", "graphml", "node-link")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -21,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--from",
         dest="source_format",
         choices=_FORMATS,
-        help="format of IN (default: by suffix: .json .toml .pmks/.expr .graphml)",
+        help="format of IN (default: by suffix: .json .toml .pmks/.expr .pyslvs .graphml)",
     )
     p.add_argument(
         "--to",

@@ -1,8 +1,9 @@
 """Which exchange format a file is in, and reading or writing a whole file in it.
 
 Formats: ``json`` and ``toml`` (the mechanism file), ``pyslvs`` (a pyslvs mechanism
-expression), ``graphml`` and ``node-link`` (the link–joint graph).  By suffix:
-``.json``, ``.toml``, ``.pmks`` or ``.expr``, ``.graphml``; node-link JSON shares
+expression), ``pyslvs-project`` (a pyslvs project file, YAML), ``graphml`` and
+``node-link`` (the link–joint graph).  By suffix: ``.json``, ``.toml``, ``.pmks`` or
+``.expr``, ``.pyslvs``, ``.graphml``; node-link JSON shares
 ``.json`` with the mechanism file, so it is named with ``node-link`` (when reading, a
 ``.json`` object with ``nodes`` and no ``joints`` is taken as node-link).
 
@@ -14,7 +15,7 @@ Examples
 Traceback (most recent call last):
 ...
 mjstruct.errors.MechanismError: crank.txt: unknown suffix '.txt' (give the format: json, \
-toml, pyslvs, graphml, node-link)
+toml, pyslvs, pyslvs-project, graphml, node-link)
 """
 
 from __future__ import annotations
@@ -27,12 +28,13 @@ from pathlib import Path
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Mechanism
 
-FORMATS = ("json", "toml", "pyslvs", "graphml", "node-link")
+FORMATS = ("json", "toml", "pyslvs", "pyslvs-project", "graphml", "node-link")
 SUFFIXES = {
     ".json": "json",
     ".toml": "toml",
     ".pmks": "pyslvs",
     ".expr": "pyslvs",
+    ".pyslvs": "pyslvs-project",
     ".graphml": "graphml",
 }
 
@@ -44,11 +46,6 @@ def format_for(path: str | Path, given: str | None = None) -> str:
             raise MechanismError(f"format: unknown {given!r} (one of {', '.join(FORMATS)})")
         return given
     suffix = Path(path).suffix.lower()
-    if suffix == ".pyslvs":
-        raise MechanismError(
-            f"{path}: a .pyslvs file is a pyslvs project; copy its mechanism expression "
-            "into a .pmks file (or name the format pyslvs)"
-        )
     if suffix not in SUFFIXES:
         raise MechanismError(
             f"{path}: unknown suffix {suffix!r} (give the format: {', '.join(FORMATS)})"
@@ -68,6 +65,14 @@ def parse_as(text: str, fmt: str, source: str = "input", pin_slot: str = "refuse
         if pin_slot not in ("refuse", "block"):
             raise MechanismError(f"pin_slot: expected 'refuse' or 'block', got {pin_slot!r}")
         return mechanism_from_pyslvs(
+            text, pin_slot="block" if pin_slot == "block" else "refuse", source=source
+        )
+    if fmt == "pyslvs-project":
+        from mjstruct.exchange.pyslvs import mechanism_from_pyslvs_project
+
+        if pin_slot not in ("refuse", "block"):
+            raise MechanismError(f"pin_slot: expected 'refuse' or 'block', got {pin_slot!r}")
+        return mechanism_from_pyslvs_project(
             text, pin_slot="block" if pin_slot == "block" else "refuse", source=source
         )
     if fmt == "graphml":
@@ -111,6 +116,10 @@ def render(m: Mechanism, fmt: str) -> str:
         from mjstruct.exchange.pyslvs import mechanism_to_pyslvs
 
         return mechanism_to_pyslvs(m)
+    if fmt == "pyslvs-project":
+        from mjstruct.exchange.pyslvs import mechanism_to_pyslvs_project
+
+        return mechanism_to_pyslvs_project(m)
     if fmt == "graphml":
         from mjstruct.exchange.graph_formats import mechanism_to_graphml
 

@@ -504,3 +504,90 @@ def pyslvs_inputs(m: Mechanism) -> list[tuple[int, int]]:
             )
         pairs.append((index[d], index[other]))
     return pairs
+
+
+def _point_ids(text: str, source: str) -> list[str]:
+    """The id each ``J[...]`` gets in :func:`mechanism_from_pyslvs` (header or ``P<i>``)."""
+    ids = _header(text, source).get("joints")
+    count = len(parse_pyslvs(text, source))
+    return [str(x) for x in ids] if isinstance(ids, list) else [f"P{i}" for i in range(count)]
+
+
+def mechanism_from_pyslvs_project(
+    text: str, *, pin_slot: PinSlot = "refuse", source: str = "project"
+) -> Mechanism:
+    """A mechanism from a pyslvs project file (``.pyslvs``, YAML).
+
+    The project's ``mechanism`` is the expression; its ``input`` pairs (base point,
+    driven point) make the base points the drivers.  Reading YAML needs PyYAML
+    (HDF5 projects are not read).
+
+    Examples
+    --------
+    >>> m = mechanism_from_pyslvs_project(
+    ...     "mechanism: M[J[R, P[0, 0], L[ground, a]], J[R, P[1, 0], L[a, b]],"
+    ...     " J[R, P[2, 1], L[b, c]], J[R, P[3, 0], L[c, ground]]]\\n"
+    ...     "input:\\n- [0, 1]\\n")
+    >>> m.drivers, m.joint("P0").links
+    (('P0',), ('ground', 'a'))
+    """
+    try:
+        import yaml
+    except ImportError:
+        raise MechanismError(
+            f"{source}: reading a pyslvs project needs PyYAML (pip install pyyaml)"
+        ) from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        first = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+        raise MechanismError(f"{source}: not a YAML pyslvs project ({first})") from None
+    if not isinstance(data, dict) or not isinstance(data.get("mechanism"), str):
+        raise MechanismError(f"{source}: mechanism: missing (a pyslvs project holds M[...] there)")
+    expr = data["mechanism"]
+    pairs = data.get("input") or []
+    ok = isinstance(pairs, list) and all(
+        isinstance(p, list | tuple) and len(p) == 2 and all(type(v) is int for v in p)
+        for p in pairs
+    )
+    if not ok:
+        raise MechanismError(f"{source}: input: expected [base, driven] point-number pairs")
+    ids = _point_ids(expr, source)
+    vpoints = parse_pyslvs(expr, source)
+    drivers = []
+    for k, (base, driven) in enumerate(pairs):
+        if not (0 <= base < len(ids) and 0 <= driven < len(ids)):
+            raise MechanismError(f"{source}: input[{k}]: point {base} or {driven} does not exist")
+        if len(vpoints[base].links) < 2:
+            raise MechanismError(f"{source}: input[{k}]: point {base} is not a joint")
+        drivers.append(ids[base])
+    # the mjstruct line keeps prismatic drivers too, which pyslvs inputs cannot name
+    kept = _header(expr, source).get("drivers")
+    if isinstance(kept, list) and set(drivers) <= {str(d) for d in kept}:
+        drivers = [str(d) for d in kept]
+    chosen = drivers if pairs or kept else None
+    return mechanism_from_pyslvs(expr, pin_slot=pin_slot, drivers=chosen, source=source)
+
+
+def mechanism_to_pyslvs_project(m: Mechanism) -> str:
+    """A pyslvs project file (YAML) holding the expression and the input pairs.
+
+    Revolute drivers become pyslvs inputs (see :func:`pyslvs_inputs`); every driver
+    also stays in the expression's ``# mjstruct`` line.
+
+    Examples
+    --------
+    >>> from mjstruct.io import read_mechanism
+    >>> from mjstruct.catalog_files import example_path
+    >>> m = read_mechanism(example_path("four-bar"))
+    >>> mechanism_from_pyslvs_project(mechanism_to_pyslvs_project(m)) == m
+    True
+    """
+    expr = mechanism_to_pyslvs(m)
+    revolute = m.with_drivers(d for d in m.drivers if m.joint(d).kind == "R")
+    lines = ["# a pyslvs project written by mjstruct", f"mechanism: {json.dumps(expr)}"]
+    pairs = pyslvs_inputs(revolute)
+    if pairs:
+        lines.append("input:")
+        lines.extend(f"- [{b}, {d}]" for b, d in pairs)
+    return "\n".join(lines) + "\n"
