@@ -231,15 +231,14 @@ def _scene(
         decomposition,
     )
     cloud = [np.asarray(pts, complex)]
-    for k in ok:
-        cloud.append(np.array(list(_anchor_positions(scene, int(k)).values()), complex))
-        for layer, order in (("velocity", 1), ("acceleration", 2)):
-            if layer in layers:
-                for z, v in _vector_sites(model, motion, order, speed):
-                    cloud.append(np.array([z[k] + v[k] * arrow_scale[layer]]))
-        for fl in forces.values():
-            for _, at, f in fl.arrows:
-                cloud.append(np.array([at[k] + f[k] * arrow_scale["force"]]))
+    cloud += [a[ok] for a in _anchor_arrays(scene).values()]
+    for layer, order in (("velocity", 1), ("acceleration", 2)):
+        if layer in layers:
+            for z, v in _vector_sites(model, motion, order, speed):
+                cloud.append((z + v * arrow_scale[layer])[ok])
+    for fl in forces.values():
+        for _, at, f in fl.arrows:
+            cloud.append((at + f * arrow_scale["force"])[ok])
     for z in paths.values():
         cloud.append(z[np.isfinite(z)])
     allz = np.concatenate(cloud)
@@ -361,19 +360,24 @@ def _complex(a: Any) -> ComplexArray:
 
 
 def _anchor_positions(scene: Scene, k: int) -> dict[str, complex]:
-    """Where every joint centre, point and block is drawn at frame ``k``."""
+    """Where every joint centre, point, block and guide end is drawn at frame ``k``."""
+    return {key: complex(a[k]) for key, a in _anchor_arrays(scene).items()}
+
+
+def _anchor_arrays(scene: Scene) -> dict[str, ComplexArray]:
+    """The drawn points over all frames: joint centres, points, blocks, guide ends."""
     motion, geom = scene.motion, scene.model.geometry
-    out = {j: complex(motion.centre(j)[0][k]) for j in geom.centres}
+    out = {j: _complex(motion.centre(j)[0]) for j in geom.centres}
     for pid, (link, z) in geom.points.items():
-        out[pid] = complex(motion.point(link, z)[0][k])
+        out[pid] = _complex(motion.point(link, z)[0])
+    ext = 0.12 * scene.model.scale
     for jid in geom.axes:
         carrier, block = guide_sides(scene.model, jid)
         z = geom.centres[jid]
-        out[f"{jid}/block"] = complex(motion.point(block, z)[0][k])
-        u = complex(geom.axes[jid] * motion.evaluation.poses[carrier].r[k])
-        origin = complex(motion.point(carrier, z)[0][k])
+        out[f"{jid}/block"] = _complex(motion.point(block, z)[0])
+        u = geom.axes[jid] * _complex(motion.evaluation.poses[carrier].r)
+        origin = _complex(motion.point(carrier, z)[0])
         lo, hi = scene.guides.get(jid, (0.0, 0.0))
-        ext = 0.12 * scene.model.scale
         out[f"{jid}/origin"] = origin
         out[f"{jid}/guide0"] = origin + u * (lo - ext)
         out[f"{jid}/guide1"] = origin + u * (hi + ext)
