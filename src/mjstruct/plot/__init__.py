@@ -1,1 +1,10 @@
-"""Drawings and charts (matplotlib, imported lazily by each function)."""
+"""Drawings, animations and charts (matplotlib, imported only by the functions that draw).
+
+Modules: ``layers`` (what a drawing can show and what each layer needs computed),
+``drawing`` (scenes and the kinematic scheme at a frame), ``forces`` (loads, inertia
+and reactions layers, with the dynamics plug-in), ``animation`` (GIF, HTML, MP4),
+``charts`` (the chart registry: quantities against q), ``atlas_sheet`` (crossing-free
+layouts of chains, atlas sheets), ``notebook`` (Jupyter pictures and tables),
+``files`` (suffix checks, atomic writing), ``assur`` (the Assur decomposition on the
+link–joint graph), ``ms_diagram`` (the four-bar P2–P3 diagram, singularity plug-in).
+"""
