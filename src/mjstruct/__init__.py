@@ -60,6 +60,13 @@ _EXPORTS: dict[str, str] = {
     "rigid_components": "mjstruct.structure.pebble",
     "rigidity": "mjstruct.structure.pebble",
     "plot_decomposition": "mjstruct.plot.assur",
+    "scene_at": "mjstruct.plot.drawing",
+    "scene_over_cycle": "mjstruct.plot.drawing",
+    "draw_scene": "mjstruct.plot.drawing",
+    "write_drawing": "mjstruct.plot.drawing",
+    "write_animation": "mjstruct.plot.animation",
+    "draw_chart": "mjstruct.plot.charts",
+    "write_atlas_sheet": "mjstruct.plot.atlas_sheet",
     "dynamic_analysis": "mjstruct.dynamics.analysis",
     "DynamicsResult": "mjstruct.dynamics.analysis",
     "kinematic_analysis": "mjstruct.kinematics.solver",
@@ -124,7 +131,11 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
     )
     from mjstruct.kinematics.solver import KinematicsResult, kinematic_analysis
     from mjstruct.mechanism import Joint, Mechanism, Point
+    from mjstruct.plot.animation import write_animation
     from mjstruct.plot.assur import plot_decomposition
+    from mjstruct.plot.atlas_sheet import write_atlas_sheet
+    from mjstruct.plot.charts import draw_chart
+    from mjstruct.plot.drawing import draw_scene, scene_at, scene_over_cycle, write_drawing
     from mjstruct.plot.ms_diagram import plot_ms_diagram, plot_singular_zones
     from mjstruct.report import StructuralReport, code_report, structural_report
     from mjstruct.structure.assortments import (
