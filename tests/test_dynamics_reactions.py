@@ -329,3 +329,19 @@ def test_reactions_near_the_singular_position_grow_without_nan():
     assert 50 < ratios[0] < 120 and all(90 < x < 110 for x in ratios[1:])
     # the link equations lose digits as 1/det J: each 100× smaller ε costs a factor 10
     assert all(8 < conds[k + 1] / conds[k] < 12 for k in range(3))
+    assert "near-singular position" in r.warnings[0] and r.to_dict()["condition"] == conds[-1]
+
+
+@pytest.mark.parametrize("eps", [1e-4, 1e-8])
+def test_condition_bounds_the_accuracy_lost(eps):
+    import mpmath as mp
+
+    m = slider_crank_eps(eps)
+    q = np.array([np.pi / 2 * (1 - 1e-3), np.pi / 2])
+    aB = KinematicModel.build(m).motion(q, order=2).centre("B")[2].real
+    mp.mp.dps = 40
+    L2 = mp.mpf(1) + mp.mpf(eps)
+    ref = [float(mp.diff(lambda t: mp.cos(t) + mp.sqrt(L2**2 - mp.sin(t) ** 2), x, 2)) for x in q]
+    cond = np.nanmax(dynamic_analysis(m, speed=1.0, frames=360).condition)
+    err = np.abs(aB - ref) / np.abs(ref)
+    assert err.max() < cond**2 * 1e-15  # between log10(cond) and 2 log10(cond) digits lost

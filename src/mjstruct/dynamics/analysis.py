@@ -54,7 +54,7 @@ FloatArray = npt.NDArray[np.float64]
 OUTPUTS = ("coefficients", "motion", "reactions", "driving", "check")
 
 #: frames whose system is worse conditioned than this are named in a warning
-ILL_CONDITIONED = 1e8
+ILL_CONDITIONED = 1e3
 
 
 @dataclass(frozen=True)
@@ -79,7 +79,9 @@ class DynamicsResult:
         joint applies to the link (an MJ: one entry per link, summing to zero).
     residual : per-frame relative residual of the excluded equation.
     check : the largest of ``residual`` (None when no frame was solved).
-    condition : per-frame condition number of the link equations.
+    condition : per-frame condition number of the link equations (JSON: its largest
+        value); near a singular position the accelerations and reactions lose between
+        log10 and 2·log10 of it in digits.
     warnings : what the user must know.
     """
 
@@ -125,6 +127,8 @@ class DynamicsResult:
             }
         if self.residual is not None:
             out["check"] = _num(self.check)
+        if self.condition is not None and np.isfinite(self.condition).any():
+            out["condition"] = _num(float(np.nanmax(self.condition)))
         out["warnings"] = list(self.warnings)
         return out
 
@@ -413,8 +417,9 @@ def _forces(
     if worst is not None and cond[worst] > ILL_CONDITIONED:
         warnings.append(
             "near-singular position: the link equations' condition number reaches "
-            f"{cond[worst]:.3g} at q = {float(lm.q[worst, 0]):.9g}; reactions there carry "
-            f"about {np.log10(cond[worst]):.0f} digits less"
+            f"{cond[worst]:.3g} at q = {float(lm.q[worst, 0]):.9g}; accelerations and "
+            f"reactions there lose {np.log10(cond[worst]):.0f} to "
+            f"{2 * np.log10(cond[worst]):.0f} digits"
         )
     ell = model.scale
     drive_cols = [c for c, u in enumerate(cols) if u.kind == "drive"]
