@@ -274,3 +274,13 @@ def test_driver_balance_matches_jacobian_with_driver_rows(m, data):
     assert b.dof_left == 3 * (m.n - 1) - held
     # each redundant driver adds a row but not to the rank
     assert len(b.redundant_drivers) == numeric_rank(m, fixed=["0"]) + len(drivers) - held
+
+
+def test_a_copied_game_goes_on_independently():
+    g = PebbleGame([3, 3, 3])
+    for u, v in [(0, 1), (0, 1), (1, 2), (1, 2)]:
+        assert g.add_edge(u, v)
+    h = g.copy()
+    assert [h.add_edge(0, 2) for _ in range(3)] == [True, True, False]
+    assert (h.rank, g.rank, g.free_pebbles) == (6, 4, 5)
+    assert [g.add_edge(0, 2) for _ in range(3)] == [True, True, False]

@@ -74,6 +74,14 @@ class PebbleGame:
         self._stamp = 0
         self.last_region: list[int] = []  # vertices reached by the last failed gathering
 
+    def copy(self) -> PebbleGame:
+        """An independent game in the same state (to try further edges on)."""
+        other = PebbleGame(self.pebbles)
+        other.out = [list(heads) for heads in self.out]
+        other.rank = self.rank
+        other.free_pebbles = self.free_pebbles
+        return other
+
     def _find_pebble(self, root: int, reached: list[int]) -> bool:
         """Move one free pebble to ``root`` along a reversed path (DFS over out-edges)."""
         seen, parent, pebbles, out, stamp = (

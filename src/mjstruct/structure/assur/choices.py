@@ -15,7 +15,8 @@ from mjstruct.errors import MechanismError, expect_int, expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur.decomposition import assur_groups
 from mjstruct.structure.assur.results import DriverChoice
-from mjstruct.structure.drivers import driver_balance
+from mjstruct.structure.drivers import add_driver_bars
+from mjstruct.structure.pebble import chain_joints, play_chain
 
 STATUS_RANK = {"ok": 0, "under-driven": 1, "over-driven": 2, "over- and under-driven": 3}
 
@@ -64,8 +65,11 @@ def driver_choices(
             f"limit: {total} choices of {count} among {len(cands)} joints exceed the limit {limit}"
         )
     out = []
+    index = {x: k for k, x in enumerate(m.links)}
+    chain_game, _, chain = play_chain(m.links, chain_joints(m, index))
     for combo in itertools.combinations(cands, count):
-        b = driver_balance(m, combo)
+        # the chain's game is played once; each choice adds its driver bars to a copy
+        _, b = add_driver_bars(m, combo, chain_game.copy(), index, chain)
         redundant = len(b.redundant_drivers) + b.structural_redundant
         status = _status(redundant, b.dof_left)
         if status == "ok":
