@@ -13,6 +13,7 @@ from __future__ import annotations
 import random
 import subprocess
 import sys
+from functools import partial
 from pathlib import Path
 
 from mjstruct.io import read_mechanism
@@ -110,10 +111,10 @@ def main() -> None:
             # a fresh Mechanism each call: no cached adjacency carried over
             structural_report(Mechanism(links=m.links, joints=m.joints), with_loops=with_loops)
 
-        t_core = median_time(lambda report=report: report(False), repeat=5, number=3)[0]
-        t_full = median_time(lambda report=report: report(True), repeat=5, number=1)[0]
-        t_loops = median_time(lambda m=m: loop_assortment(m), repeat=5, number=1)[0]
-        t_canon = median_time(lambda m=m: canonical_code(m), repeat=5, number=5)[0]
+        t_core = median_time(partial(report, False), repeat=5, number=3)[0]
+        t_full = median_time(partial(report, True), repeat=5, number=1)[0]
+        t_loops = median_time(partial(loop_assortment, m), repeat=5, number=1)[0]
+        t_canon = median_time(partial(canonical_code, m), repeat=5, number=5)[0]
         la = loop_assortment(m)
         rule = la.rule if la else "not planar"
         print(
