@@ -113,6 +113,19 @@ def test_motion_stops_where_qdot_squared_turns_negative():
     json.dumps(r.to_dict(), allow_nan=False)
 
 
+@pytest.mark.parametrize("frames", [4, 36])
+def test_a_stop_between_frames_is_found(frames):
+    # with q̇0 = 1 the energy dips below zero at q = 0.059 and would be positive again
+    # at the next frames: the stop must not be missed on coarse frames
+    r = dynamic_analysis(read_mechanism(SEED), qdot0=1.0, frames=frames)
+    assert len(r.q) == 1 and "stops at q = 0.059157" in r.warnings[0]
+
+
+def test_at_rest_and_pushed_backwards_it_does_not_move():
+    r = dynamic_analysis(read_mechanism(SEED), qdot0=0.0, frames=8)
+    assert len(r.q) == 1 and r.qdot[0, 0] == 0.0 and "stops at q = 0:" in r.warnings[0]
+
+
 @pytest.mark.parametrize(
     ("method", "n", "tol"), [("trapezoid", 12, 1e-3), ("fft", 12, 1e-3), ("adaptive", 10, 1e-9)]
 )

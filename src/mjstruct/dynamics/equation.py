@@ -51,6 +51,7 @@ from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.model import KinematicModel, Motion
 
 FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
 
 METHODS = ("gauss", "trapezoid", "fft", "adaptive")
 
@@ -245,6 +246,9 @@ class Integral:
     evaluations : points where f was evaluated.
     slope : dA/du at the targets as the method represents it (the trapezoid's chord
         slope, the Fourier fit), or None when it is f itself (gauss, adaptive).
+    grid, grid_A : the method's own points (piece ends, samples, Gauss nodes) and A
+        there (variants × points): where the motion may stop between two targets.
+    grid_exact : which grid values are the method's result (not a screening estimate).
     """
 
     A: FloatArray
@@ -252,6 +256,9 @@ class Integral:
     error: FloatArray
     evaluations: int
     slope: FloatArray | None
+    grid: FloatArray
+    grid_A: FloatArray
+    grid_exact: BoolArray
 
 
 def _gauss(
@@ -271,6 +278,7 @@ def _gauss(
     done_a: list[FloatArray] = []
     done_fine: list[FloatArray] = []
     done_err: list[FloatArray] = []
+    done_vals: list[FloatArray] = []
     count = 0
     scale = 0.0
     for _ in range(GAUSS_ROUNDS):
@@ -288,6 +296,7 @@ def _gauss(
         done_a.append(todo_a[~bad])
         done_fine.append(fine[:, ~bad])
         done_err.append(np.abs(fine - coarse)[:, ~bad])
+        done_vals.append(vals[:, ~bad, : len(x2)])
         if not bad.any():
             break
         a, b = todo_a[bad], todo_b[bad]
@@ -301,7 +310,19 @@ def _gauss(
     cum = np.concatenate([np.zeros((fine_all.shape[0], 1)), np.cumsum(fine_all, axis=1)], axis=1)
     bounds = np.append(starts, period)
     idx = np.searchsorted(bounds, targets)
-    return Integral(cum[:, idx], cum[:, -1], err_all, count, None)
+    # A at the nodes by the trapezoid rule inside each piece: only to screen for the
+    # motion stopping between two piece ends (the root is then refined exactly)
+    nv = np.concatenate(done_vals, axis=1)[:, order]
+    half = (bounds[1:] - bounds[:-1]) / 2
+    t = np.concatenate([[-1.0], x2, [1.0]])
+    ext = np.concatenate([nv[:, :, :1], nv, nv[:, :, -1:]], axis=2)
+    steps = (ext[:, :, 1:] + ext[:, :, :-1]) / 2 * np.diff(t) * half[None, :, None]
+    node_A = cum[:, :-1, None] + np.cumsum(steps, axis=2)[:, :, :-1]
+    node_u = (starts + half)[:, None] + half[:, None] * x2[None]
+    grid = np.concatenate([bounds, node_u.ravel()])
+    grid_A = np.concatenate([cum, node_A.reshape(cum.shape[0], -1)], axis=1)
+    exact = np.arange(grid.size) < bounds.size
+    return Integral(cum[:, idx], cum[:, -1], err_all, count, None, grid, grid_A, exact)
 
 
 def work_integral(
@@ -345,7 +366,8 @@ def work_integral(
             chord = np.diff(cum, axis=1) / h
             k = np.clip(np.searchsorted(u, targets, side="right") - 1, 0, N - 1)
             # the cycle by pairwise summation (a running sum loses digits over 2^16 steps)
-            return Integral(A, steps.sum(axis=1), err, N, chord[:, k])
+            ones = np.ones(u.size, bool)
+            return Integral(A, steps.sum(axis=1), err, N, chord[:, k], u, cum, ones)
         c = np.fft.rfft(vals[:, :-1], axis=1) / N
         H = N // 2 if harmonics is None else max(0, min(int(harmonics), N // 2))
         k = np.arange(1, H + 1)
@@ -356,7 +378,8 @@ def work_integral(
         wave = np.exp(1j * om * np.outer(k, targets))
         A = c[:, :1].real * targets[None] + 2 * np.real((ck / (1j * k * om)) @ (wave - 1.0))
         slope = c[:, :1].real + 2 * np.real(ck @ wave)
-        return Integral(A, c[:, 0].real * period, err, N, slope)
+        exact = np.ones(targets.size, bool)
+        return Integral(A, c[:, 0].real * period, err, N, slope, targets, A, exact)
     if method == "adaptive":
         from scipy.integrate import quad_vec
 
@@ -377,7 +400,8 @@ def work_integral(
         cum = np.concatenate([np.zeros((fine.shape[0], 1)), np.cumsum(fine, axis=1)], axis=1)
         idx = np.searchsorted(edges, targets)
         err_all = np.full(fine.shape[0], float(sum(errs)))
-        return Integral(cum[:, idx], cum[:, -1], err_all, count[0], None)
+        exact = np.ones(edges.size, bool)
+        return Integral(cum[:, idx], cum[:, -1], err_all, count[0], None, edges, cum, exact)
     raise MechanismError(
         f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})"
     )
@@ -443,7 +467,9 @@ def steady_parameter(
         c, e = cycle([data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})])
         slope = c[1] - c[0]
         if not abs(slope) > 1e-14 * (abs(c[0]) + abs(c[1]) + 1e-300):
-            raise MechanismError(f"parameters.{p}: the cycle work does not depend on {p}")
+            raise MechanismError(
+                f"parameters.{p}: the cycle work (one cycle in the direction of motion) does not depend on {p}"
+            )
         value = float((data.energy_change - c[0]) / slope)
         params = data.parameter_values(**{p: value})
         return params, data.energy_change, float(max(e[0], e[1]) * (1 + abs(value)))
@@ -490,11 +516,14 @@ def free_motion(
         w = work_integral(lambda x: path.force(x, 0.0, variants), T, u, method, n, harmonics, brk)
         slope_c = w.cycle[1] - w.cycle[0]
         if not abs(slope_c) > 1e-14 * (abs(w.cycle[0]) + abs(w.cycle[1]) + 1e-300):
-            raise MechanismError(f"parameters.{p}: the cycle work does not depend on {p}")
+            raise MechanismError(
+                f"parameters.{p}: the cycle work (one cycle in the direction of motion) does not depend on {p}"
+            )
         value = float((data.energy_change - w.cycle[0]) / slope_c)
         params = data.parameter_values(**{p: value})
         mix = np.array([1.0 - value, value])
         A = mix @ w.A
+        grid_A = mix @ w.grid_A
         cycle = float(data.energy_change)
         err = float(np.max(w.error) * (1 + abs(value)))
         w_slope = None if w.slope is None else (mix @ w.slope)[None]
@@ -505,12 +534,25 @@ def free_motion(
             params = data.parameter_values()
         w = work_integral(lambda x: path.force(x, 0.0, [params]), T, u, method, n, harmonics, brk)
         A, cycle, err, w_slope = w.A[0], float(w.cycle[0]), float(w.error[0]), w.slope
-    E2 = 2 * A + V[0] * qdot0**2  # twice the kinetic energy
-    bad = np.nonzero(E2 < 0)[0]
-    kept = int(bad[0]) if bad.size else len(u)
+        grid_A = w.grid_A[0]
+    e0 = V[0] * qdot0**2
+    E2 = 2 * A + e0  # twice the kinetic energy
+    # the first sign change of the energy, looked for on the method's own points too
+    pts = np.concatenate([u, w.grid])
+    vals = np.concatenate([E2, 2 * grid_A + e0])
+    order = np.argsort(pts, kind="stable")
+    pts, vals, Ap = pts[order], vals[order], np.concatenate([A, grid_A])[order]
+    exact = np.concatenate([np.ones(u.size, bool), w.grid_exact])[order]
     stop = None
-    if bad.size:
-        stop = _stop_point(path, params, u[kept - 1], u[kept], V[0] * qdot0**2, A[kept - 1])
+    kept = len(u)
+    if e0 == 0.0 and s * path.force([0.0], 0.0, [params])[0, 0] < 0:
+        stop, kept = float(path.q([0.0])[0, 0]), 1  # at rest, pushed backwards
+    elif (vals < 0).any():
+        g = int(np.argmax(vals < 0))
+        a = int(np.nonzero(exact[:g])[0][-1])  # start from a value the method computed
+        u_stop = _stop_point(path, params, pts[a], pts[g], e0, Ap[a])
+        stop = float(path.q([u_stop])[0, 0])
+        kept = max(1, int(np.searchsorted(u, u_stop, side="right")))
     qd = s * np.sqrt(np.maximum(E2[:kept], 0.0) / V[:kept])
     # q̈ = (dA/dq − W q̇²)/V with dA/dq as the method represents it: the excluded
     # equation then measures how far that representation is from the true force
@@ -523,7 +565,7 @@ def free_motion(
 def _stop_point(
     path: PathForce, params: Mapping[str, float], a: float, b: float, e0: float, A_a: float
 ) -> float:
-    """The path point in [a, b] where 2A + V₀q̇₀² reaches zero (q̇² turns negative)."""
+    """The path parameter in [a, b] where 2A + V₀q̇₀² reaches zero (q̇² turns negative)."""
     from scipy.optimize import brentq
 
     xg, wg = np.polynomial.legendre.leggauss(2 * GAUSS_NODES)
@@ -535,8 +577,7 @@ def _stop_point(
         vals = path.force(a + half * (xg + 1), 0.0, [params])[0]
         return float(2 * (A_a + half * (vals * wg).sum()) + e0)
 
-    root = float(brentq(energy, a, b, xtol=1e-13)) if energy(a) > 0 else a
-    return float(path.q([root])[0, 0])
+    return float(brentq(energy, a, b, xtol=1e-13)) if energy(a) > 0 and energy(b) < 0 else b
 
 
 def _free_motion_ode(
@@ -628,7 +669,11 @@ def _free_motion_ode(
         params = data.parameter_values(**{p: float(root.root)})
     else:
         params = data.parameter_values()
-    E, end, stop_u = run(params)
+    if E0 == 0.0 and s * path.force([0.0], 0.0, [params])[0, 0] < 0:
+        stop_u: float | None = 0.0  # at rest, pushed backwards
+        E, end = np.zeros(1), float("nan")
+    else:
+        E, end, stop_u = run(params)
     kept = len(E)
     stop = None if stop_u is None else float(path.q([stop_u])[0, 0])
     cycle = end - E0
