@@ -468,7 +468,8 @@ def steady_parameter(
         slope = c[1] - c[0]
         if not abs(slope) > 1e-14 * (abs(c[0]) + abs(c[1]) + 1e-300):
             raise MechanismError(
-                f"parameters.{p}: the cycle work (one cycle in the direction of motion) does not depend on {p}"
+                f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
+                f"does not depend on {p}"
             )
         value = float((data.energy_change - c[0]) / slope)
         params = data.parameter_values(**{p: value})
@@ -517,7 +518,8 @@ def free_motion(
         slope_c = w.cycle[1] - w.cycle[0]
         if not abs(slope_c) > 1e-14 * (abs(w.cycle[0]) + abs(w.cycle[1]) + 1e-300):
             raise MechanismError(
-                f"parameters.{p}: the cycle work (one cycle in the direction of motion) does not depend on {p}"
+                f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
+                f"does not depend on {p}"
             )
         value = float((data.energy_change - w.cycle[0]) / slope_c)
         params = data.parameter_values(**{p: value})
