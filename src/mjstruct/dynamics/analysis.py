@@ -285,7 +285,14 @@ def dynamic_analysis(
                 "inertia: the reduced inertia V is zero somewhere; "
                 "free motion needs masses that move"
             )
-        fm = free_motion(path, u, V, W, float(qdot0), method, n, harmonics)
+
+        def at_frames(params: Mapping[str, float], qdot: FloatArray) -> FloatArray:
+            k = len(qdot)
+            mo_k = mo if k == frames else model.motion(qs[:k], order=1)
+            Q_k: FloatArray = generalised_force(mo_k, data, links, qs[:k, 0], qdot, [params])[0]
+            return Q_k
+
+        fm = free_motion(path, u, V, W, float(qdot0), method, n, harmonics, at_frames)
         k = fm.kept
         if fm.stop is not None:
             warnings.append(

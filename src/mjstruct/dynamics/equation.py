@@ -55,8 +55,12 @@ BoolArray = npt.NDArray[np.bool_]
 
 METHODS = ("gauss", "trapezoid", "fft", "adaptive")
 
-#: Gauss–Legendre nodes per piece (the estimate uses half as many)
+#: Gauss–Legendre nodes per piece (the estimate uses half as many): many nodes on few
+#: pieces (each round of refinement is one call of the kinematics, costly for closures),
+#: fewer once the frames make the pieces short
 GAUSS_NODES = 12
+GAUSS_NODES_FEW_PIECES = 32
+GAUSS_FEW_PIECES = 200
 
 #: starting pieces of the cycle, halving rounds, relative tolerance and point budget
 GAUSS_PIECES = 16
@@ -266,14 +270,16 @@ def _gauss(
 ) -> Integral:
     """Gauss–Legendre on pieces between frames and jumps, halving pieces until converged.
 
-    A piece is split while its 12- and 6-node values differ by more than its share of
-    ``GAUSS_RTOL`` × ∫|f|; all pending pieces are evaluated in one call of ``f``.
+    A piece is split while its n- and n/2-node values differ by more than its share of
+    ``GAUSS_RTOL`` × ∫|f| (n = 32 on up to 200 pieces, else 12); all pending pieces
+    are evaluated in one call of ``f``.
     """
-    x2, w2 = np.polynomial.legendre.leggauss(GAUSS_NODES)
-    x1, w1 = np.polynomial.legendre.leggauss(GAUSS_NODES // 2)
-    x = np.concatenate([x2, x1])
     edges = np.unique(np.concatenate([np.linspace(0.0, period, GAUSS_PIECES + 1), targets, brk]))
     edges = edges[(edges >= 0.0) & (edges <= period)]
+    nodes = GAUSS_NODES_FEW_PIECES if edges.size <= GAUSS_FEW_PIECES else GAUSS_NODES
+    x2, w2 = np.polynomial.legendre.leggauss(nodes)
+    x1, w1 = np.polynomial.legendre.leggauss(nodes // 2)
+    x = np.concatenate([x2, x1])
     todo_a, todo_b = edges[:-1], edges[1:]
     done_a: list[FloatArray] = []
     done_fine: list[FloatArray] = []
@@ -498,11 +504,13 @@ def free_motion(
     method: str = "gauss",
     n: int = 10,
     harmonics: int | None = None,
+    force_at_frames: Callable[[Mapping[str, float], FloatArray], FloatArray] | None = None,
 ) -> FreeMotion:
     """Speed and acceleration along the frames ``u`` (path parameters, u[0] = 0).
 
     ``V``, ``W`` are the inertia coefficients at the frames; ``qdot0`` the speed at
-    the first frame (its sign is the path's direction).
+    the first frame (its sign is the path's direction).  ``force_at_frames(params,
+    qdot)`` gives Q(q) at the first frames (default: a fresh kinematic solution).
     """
     if path.data.uses_qdot:
         return _free_motion_ode(path, u, V, W, qdot0)
@@ -558,7 +566,12 @@ def free_motion(
     qd = s * np.sqrt(np.maximum(E2[:kept], 0.0) / V[:kept])
     # q̈ = (dA/dq − W q̇²)/V with dA/dq as the method represents it: the excluded
     # equation then measures how far that representation is from the true force
-    slope = path.force(u[:kept], qd, [params])[0] if w_slope is None else w_slope[0, :kept]
+    if w_slope is not None:
+        slope = w_slope[0, :kept]
+    elif force_at_frames is not None:
+        slope = s * force_at_frames(params, qd)[:kept]
+    else:
+        slope = path.force(u[:kept], qd, [params])[0]
     qdd = (s * slope - W[:kept] * qd**2) / V[:kept]
     count = w.evaluations
     return FreeMotion(params, A[:kept], qd, qdd, kept, stop, cycle, err, count, method)
