@@ -13,7 +13,7 @@ from math import comb
 
 from mjstruct.errors import MechanismError, expect_int, expect_mechanism
 from mjstruct.mechanism import Mechanism
-from mjstruct.structure.assur.decomposition import assur_groups
+from mjstruct.structure.assur.decomposition import decompose
 from mjstruct.structure.assur.results import DriverChoice
 from mjstruct.structure.drivers import add_driver_bars
 from mjstruct.structure.pebble import chain_joints, play_chain
@@ -73,7 +73,7 @@ def driver_choices(
         redundant = len(b.redundant_drivers) + b.structural_redundant
         status = _status(redundant, b.dof_left)
         if status == "ok":
-            d = assur_groups(m, combo)
+            d = decompose(m, b)
             out.append(DriverChoice(combo, status, d.mechanism_class, d))
         else:
             out.append(DriverChoice(combo, status, None, None, max(b.dof_left, 0), redundant))

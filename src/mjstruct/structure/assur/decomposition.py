@@ -48,7 +48,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur.bodies import BodyModel, LevelJoint, link_key
 from mjstruct.structure.assur.contours import group_class
 from mjstruct.structure.assur.results import AssurGroup, Decomposition
-from mjstruct.structure.drivers import checked_balance
+from mjstruct.structure.drivers import DriverBalance, checked_balance
 from mjstruct.structure.pebble import PebbleGame, body_components, pin_edges
 
 
@@ -234,17 +234,22 @@ def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decompos
     expect_mechanism(m)
     if m.frame is None:
         raise MechanismError("frame: the decomposition needs a frame link")
-    balance = checked_balance(m, drivers)
-    drivers = balance.drivers
-    model = BodyModel(m, drivers)
+    return decompose(m, checked_balance(m, drivers))
+
+
+def decompose(m: Mechanism, balance: DriverBalance) -> Decomposition:
+    """:func:`assur_groups` for drivers already checked (``balance`` of ``m``)."""
+    if m.frame is None:
+        raise MechanismError("frame: the decomposition needs a frame link")
     redundant = balance.structural_redundant
     if redundant:
         raise MechanismError(
             f"joints: the mechanism is over-constrained ({redundant} redundant "
             "constraint(s) in the chain itself); an Assur decomposition needs none"
         )
+    drivers = balance.drivers
+    model = BodyModel(m, drivers)
     members = [b for b in range(len(model.bodies)) if b != model.frame_body]
     groups = _level(model, model.frame_body, members, list(model.joints), ())
     cls = max((g.klass for g in groups), default=1)
-    assert m.frame is not None
     return Decomposition(m.frame, drivers, tuple(model.initial), tuple(groups), cls, m.name)
