@@ -342,3 +342,22 @@ def test_crank_alone_is_an_initial_mechanism_without_groups():
     d = assur_groups(Mechanism.build([("O", [0, 1])], frame=0, drivers=["O"]))
     assert d.groups == () and d.mechanism_class == 1 and d.initial == (("O", "0", "1"),)
     assert "Mechanism class: I (1)" in d.render()
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.lists(st.integers(0, 6), min_size=2, max_size=3, unique=True), max_size=9))
+def test_longest_contour_against_networkx_shortest_cycles(internal):
+    import networkx as nx
+
+    from mjstruct.structure.assur.contours import longest_contour
+
+    g = nx.Graph()
+    for k, touched in enumerate(internal):
+        g.add_edges_from((("joint", k), ("body", b)) for b in touched)
+    expected = 0
+    for u, v in list(g.edges):
+        g.remove_edge(u, v)
+        if nx.has_path(g, u, v):
+            expected = max(expected, (nx.shortest_path_length(g, u, v) + 1) // 2)
+        g.add_edge(u, v)
+    assert longest_contour(internal) == expected

@@ -46,35 +46,40 @@ def longest_contour(internal: Sequence[Sequence[Hashable]]) -> int:
     >>> longest_contour([["a", "b"], ["b", "c"], ["c", "a"]])
     3
     """
-    adj: dict[tuple[str, Hashable], list[tuple[str, Hashable]]] = {}
-    for k, touched in enumerate(internal):
-        joint = ("joint", k)
+    body_ix: dict[Hashable, int] = {}
+    for touched in internal:
         for b in touched:
-            adj.setdefault(joint, []).append(("body", b))
-            adj.setdefault(("body", b), []).append(joint)
+            body_ix.setdefault(b, len(body_ix))
+    first_joint = len(body_ix)  # vertices: bodies, then one per internal joint
+    adj: list[list[int]] = [[] for _ in range(first_joint + len(internal))]
+    for k, touched in enumerate(internal):
+        for b in touched:
+            adj[first_joint + k].append(body_ix[b])
+            adj[body_ix[b]].append(first_joint + k)
     longest = 0
     for k, touched in enumerate(internal):
-        goal: tuple[str, Hashable] = ("joint", k)
+        goal = first_joint + k
         for b in touched:
             # shortest path body -> joint that avoids the edge itself, by BFS
-            start: tuple[str, Hashable] = ("body", b)
-            dist = {start: 0}
+            start = body_ix[b]
+            dist = [-1] * len(adj)
+            dist[start] = 0
             frontier = [start]
-            found = None
-            while frontier and found is None:
+            found = -1
+            while frontier and found < 0:
                 nxt = []
                 for x in frontier:
                     for y in adj[x]:
-                        if (x, y) == (start, goal) or y in dist:
+                        if dist[y] >= 0 or (x == start and y == goal):
                             continue
                         dist[y] = dist[x] + 1
                         if y == goal:
                             found = dist[y]
                             break
                         nxt.append(y)
-                    if found is not None:
+                    if found >= 0:
                         break
                 frontier = nxt
-            if found is not None:
+            if found >= 0:
                 longest = max(longest, (found + 1) // 2)
     return longest
