@@ -183,7 +183,7 @@ def main() -> None:
     for ax in axes[1]:
         ax.set_xlabel("q (rad)")
         ax.legend(fontsize=8)
-    fig.suptitle(f"seed-000 slider-crank, steady motion p = 10π/9, q̇₀ = {QDOT0:g}")
+    fig.suptitle(f"slider-crank (Panasenko 2025), steady motion p = 10π/9, q̇₀ = {QDOT0:g}")
     fig.tight_layout()
     fig.savefig(IMG / "dyn-slider-crank.png", dpi=100)
 
