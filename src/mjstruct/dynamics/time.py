@@ -263,7 +263,6 @@ def _integrate(
         return _Path((first,))
     t1 = float(first.sol.t[-1])
     y1 = np.asarray(first.sol.y[:, -1], float)
-    rest = float(np.sign(y1[1])) if stop_at_rest else 0.0
     return _Path((first, _solve(eq, (t1, t_end), y1, "Radau", rtol, atol, rest, False)))
 
 
@@ -271,12 +270,9 @@ def _model_and_data(
     mechanism: Mechanism | KinematicModel, drivers: Iterable[str] | None
 ) -> tuple[KinematicModel, DynamicsData]:
     if isinstance(mechanism, KinematicModel):
-        model = mechanism
-    else:
-        data = read_dynamics(mechanism)
-        model = KinematicModel.build(mechanism, drivers)
-        return model, data
-    return model, read_dynamics(model.mechanism)
+        return mechanism, read_dynamics(mechanism.mechanism)
+    data = read_dynamics(mechanism)  # bad dynamics data is named before the planning
+    return KinematicModel.build(mechanism, drivers), data
 
 
 def motion_in_time(
@@ -425,7 +421,7 @@ def motion_in_time(
         )
     Y = path(times)
     Y[:, 0] = y0
-    Y[:, -1] = path.y_stop if stopped == "rest" or t_stop == times[-1] else Y[:, -1]
+    Y[:, -1] = path.y_stop  # the run ends at the last output time (t_end or rest)
     q, qd, work = Y[0], Y[1], Y[2]
     qdd, Q, V, _ = eq.acceleration(q, qd)
     along = path.states
