@@ -119,13 +119,30 @@ def _complete(st: PlanState) -> bool:
     return len(st.placed) == len(st.m.links)
 
 
-def _search(st: PlanState, depth: int, allowed: set[str] | None) -> PlanState:
-    """Propagate; when stalled assume one link angle (fewest unknowns first)."""
+#: propagations the first pass's searches may run in all (they stop with the best plan
+#: found so far; the group-by-group pass follows when none is complete)
+SEARCH_BUDGET = 2000
+#: assumed angles one search may stack (per group in the group-by-group pass)
+MAX_SEARCH_DEPTH = 3
+
+
+def _search(
+    st: PlanState, depth: int, allowed: set[str] | None, budget: list[int] | None = None
+) -> PlanState:
+    """Propagate; when stalled assume one link angle (fewest unknowns first).
+
+    Tries every link with one known centre, up to ``depth`` assumptions deep, within
+    :data:`SEARCH_BUDGET` propagations (shared through ``budget``).
+    """
+    budget = [SEARCH_BUDGET] if budget is None else budget
+    budget[0] -= 1
     _propagate(st, allowed)
     if _complete(st) or (allowed is not None and allowed <= st.placed) or depth == 0:
         return st
     best: PlanState | None = None
     for link in st.m.links:
+        if budget[0] <= 0:
+            break
         if link in st.placed or (allowed is not None and link not in allowed):
             continue
         known = st.known_on(link)
@@ -133,7 +150,7 @@ def _search(st: PlanState, depth: int, allowed: set[str] | None) -> PlanState:
             continue
         trial = st.copy()
         assume_angle(trial, link, known[0])
-        trial = _search(trial, depth - 1, allowed)
+        trial = _search(trial, depth - 1, allowed, budget)
         done = _complete(trial) or (allowed is not None and allowed <= trial.placed)
         if done and (best is None or _cost(trial) < _cost(best)):
             best = trial
@@ -152,22 +169,27 @@ def _run(
     reference: str,
     groups: list[set[str]] | None,
     per_group: bool = False,
+    budget: list[int] | None = None,
 ) -> PlanState:
     """Propagate group by group, then search for assumed angles where links are left.
 
-    ``per_group``: search each group as soon as propagation leaves it open (any number
-    of unknowns in all, at most three per group); else one search at the end (at most
-    three unknowns in all, the plans of the first pass).
+    ``per_group``: place the driven links first, then search each group as soon as
+    propagation leaves it open (any number of unknowns in all, at most three per
+    group); else one search at the end (at most three unknowns in all, the plans of
+    the first pass).
     """
     st = PlanState(m, geom, topo)
     step = st.add(Step("reference", (reference,)))
     st.place(reference, step, ())
+    if per_group:
+        driven = {x for d in topo.drivers for x in m.joint(d).links[:2]}
+        _propagate(st, driven)
     # the decomposition fixes the order; assumptions only where it leaves links open
     for group in groups or ():
         _propagate(st, set(group))
         if per_group and not set(group) <= st.placed:
-            st = _search(st, 3, set(group))
-    return _search(st, 3, None)
+            st = _search(st, MAX_SEARCH_DEPTH, set(group))
+    return _search(st, MAX_SEARCH_DEPTH, None, budget)
 
 
 def plan_kinematics(
@@ -199,7 +221,7 @@ def plan_kinematics(
     geom = geometry if geometry is not None else read_geometry(m, drv)
     assert m.frame is not None  # read_geometry checked it
     topo = Topology(m, drv)
-    groups, source, dec_ref = _groups_from(m, drv, decomposition)
+    groups, source, dec_ref, iterated = _groups_from(m, drv, decomposition)
     refs = [m.frame] if dec_ref is None else [dec_ref, m.frame]
     # an inner driver (not on the frame) suggests solving in its first link's frame
     for d in drv:
@@ -208,9 +230,12 @@ def plan_kinematics(
     if groups is not None:
         trials += [(ref, groups, source) for ref in refs]
     trials += [(ref, None, "propagation") for ref in refs]
+    if iterated > MAX_SEARCH_DEPTH:
+        trials = []  # one search cannot assume an angle in each of these groups
     best: PlanState | None = None
+    budget = [SEARCH_BUDGET]  # shared by the trials of the first pass
     for ref, grp, src in trials:
-        st = _run(m, geom, topo, ref, grp)
+        st = _run(m, geom, topo, ref, grp, budget=budget)
         if _complete(st) and (best is None or _cost(st) < _cost(best)):
             best, source = st, src
             if st.unknowns == 0:
@@ -219,10 +244,9 @@ def plan_kinematics(
         # more open groups than one search can take: search group by group
         for ref in refs:
             st = _run(m, geom, topo, ref, groups, per_group=True)
-            if _complete(st) and (best is None or _cost(st) < _cost(best)):
-                best = st
-        if best is not None:
-            source = "assur"
+            if _complete(st):
+                best, source = st, "assur"
+                break
     if best is None:
         st = _run(m, geom, topo, m.frame, None)
         missing = sorted(set(m.links) - st.placed)
@@ -272,8 +296,9 @@ def _jacobian_dof(m: Mechanism, geom: Geometry) -> int:
 
 def _groups_from(
     m: Mechanism, drivers: tuple[str, ...], decomposition: Decomposition | None
-) -> tuple[list[set[str]] | None, str, str | None]:
-    """Group order (and reference link) from an Assur decomposition, if usable."""
+) -> tuple[list[set[str]] | None, str, str | None, int]:
+    """Group order, reference link and the number of groups of class III and above
+    (each needs a closure unknown) from an Assur decomposition, if usable."""
     dec = decomposition
     if dec is None:
         try:
@@ -281,13 +306,13 @@ def _groups_from(
         except MechanismError:
             # not balanced generically (a special geometry such as a parallelogram):
             # plan by propagation alone, the Jacobian decides
-            return None, "propagation", None
+            return None, "propagation", None, 0
     if not dec.groups:
-        return None, "propagation", None
+        return None, "propagation", None, 0
     sets = [set(g.links) for g in dec.groups]
     moving = set(m.links) - {m.frame}
     if not set().union(*sets) <= moving | {m.frame}:
-        return None, "propagation", None
+        return None, "propagation", None, 0
     refs = {g.reference for g in dec.groups} - {m.frame}
     ref = next(iter(refs)) if len(refs) == 1 else None
-    return sets, "assur", ref
+    return sets, "assur", ref, sum(1 for g in dec.groups if g.klass >= 3)
