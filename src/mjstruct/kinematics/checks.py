@@ -46,6 +46,7 @@ def batched_det(A: FloatArray) -> tuple[FloatArray, FloatArray]:
     F, k, _ = M.shape
     sign = np.ones(F)
     logabs = np.zeros(F)
+    singular = np.zeros(F, bool)
     rows = np.arange(F)
     for c in range(k):
         p = c + np.argmax(np.abs(M[:, c:, c]), axis=1)
@@ -55,11 +56,15 @@ def batched_det(A: FloatArray) -> tuple[FloatArray, FloatArray]:
         M[rows, p] = M[:, c]
         M[:, c] = top
         piv = M[:, c, c]
+        singular |= ~(piv != 0)
+        piv = np.where(singular, 1.0, piv)  # a singular matrix stays one (below)
         sign *= np.sign(piv)
         with np.errstate(divide="ignore", invalid="ignore"):
             logabs += np.log(np.abs(piv))
             f = M[:, c + 1 :, c] / piv[:, None]
         M[:, c + 1 :, c:] -= f[:, :, None] * M[:, None, c, c:]
+    sign[singular] = 0.0
+    logabs[singular] = -np.inf
     return sign, logabs
 
 
