@@ -345,3 +345,14 @@ def test_condition_bounds_the_accuracy_lost(eps):
     cond = np.nanmax(dynamic_analysis(m, speed=1.0, frames=360).condition)
     err = np.abs(aB - ref) / np.abs(ref)
     assert err.max() < cond**2 * 1e-15  # between log10(cond) and 2 log10(cond) digits lost
+
+
+def test_W_is_half_the_derivative_of_V_on_the_zhivago_mechanism():
+    # V and W come from σ and κ of an iterated closure: W = (dV/dq)/2, with dV/dq
+    # taken here spectrally from V over the frames (V is smooth and periodic)
+    r = dynamic_analysis(
+        load("zhivago-dynamics"), speed=1.0, frames=2048, outputs=["coefficients"]
+    )
+    k = np.fft.rfftfreq(2048, d=1 / 2048)
+    dV = np.fft.irfft(1j * k * np.fft.rfft(r.V), n=2048)
+    assert np.abs(dV / 2 - r.W).max() < 1e-6 * np.abs(r.W).max()
