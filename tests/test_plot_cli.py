@@ -120,7 +120,8 @@ def test_gif_has_n_frames(tmp_path, capsys):
     argv = ["animate", ex("kin-radial-engine-5"), "--frames", "7", "--show", "velocity",
             "--dpi", "30", "-o", str(out)]  # fmt: skip
     assert main(argv) == 0
-    assert Image.open(out).n_frames == 7
+    with Image.open(out) as gif:
+        assert gif.n_frames == 7
     assert capsys.readouterr().err == ""  # no progress bar off a terminal
 
 
@@ -144,7 +145,8 @@ def test_animation_notes_gaps(tmp_path, capsys):
     )
     out = tmp_path / "rocker.gif"
     assert main(["animate", str(f), "--frames", "12", "--dpi", "30", "-o", str(out)]) == 0
-    assert Image.open(out).n_frames == 12
+    with Image.open(out) as gif:
+        assert gif.n_frames == 12
     assert "frames do not assemble (drawn as gaps)" in capsys.readouterr().err
 
 

@@ -20,7 +20,8 @@ Examples
 >>> scene = scene_over_cycle(KinematicModel.build(read_mechanism(example_path("four-bar"))), 5)
 >>> out = os.path.join(tempfile.mkdtemp(), "four-bar.gif")
 >>> write_animation(scene, out, dpi=40)
->>> Image.open(out).n_frames
+>>> with Image.open(out) as gif:
+...     gif.n_frames
 5
 """
 
