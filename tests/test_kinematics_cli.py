@@ -47,7 +47,8 @@ def test_csv_table(tmp_path, capsys):
     assert main(["kinematics", f, "--frames", "12", "--csv", str(out)]) == 0
     text = capsys.readouterr().out
     assert "plan" in text and "check Jacobian" in text
-    rows = list(csv.reader(out.open()))
+    with out.open() as fh:
+        rows = list(csv.reader(fh))
     assert rows[0][:4] == ["q", "O1.x", "O1.y", "O1.vx"]
     assert "2.omega" in rows[0] and "M.ax" in rows[0]
     assert len(rows) == 13
