@@ -46,7 +46,7 @@ def test_dof_and_side_sums_agree(m):
     assert r.F_values["loops"] == r.F_values["assortment"] == r.F_values["grubler"] == grubler
     d = r.to_dict()
     assert d["checks"]["S_L"]["sum_i_ni"] == d["checks"]["S_L"]["2(F+3K)-V"]
-    assert d["rc"] == d["checks"]["rc"]["seed"]
+    assert d["rc"] == d["checks"]["rc"]["assortment"]
 
 
 @settings(max_examples=60, deadline=None)

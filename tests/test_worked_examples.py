@@ -97,7 +97,7 @@ def test_both_formulas_agree(examples, row):
     assert len(set(c["K"].values())) == 1
     assert len(set(c["F"].values())) == 1
     assert len(set(c["S_L"].values())) == 1
-    assert c["rc"]["N-F"] == c["rc"]["seed"]
+    assert c["rc"]["N-F"] == c["rc"]["assortment"]
     assert d["violations"] == []
 
 

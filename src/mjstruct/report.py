@@ -1,5 +1,5 @@
 """The structural report: every quantity of the spec's table, as the contract's JSON
-object and as the seed-style bullet list with both formulas shown.
+object and as the bullet list of [MJ structure 2020] with both formulas shown.
 
 :func:`structural_report` works on a mechanism (graph known) and
 :func:`code_report` on a structural code alone (assortments known).  Both fill one
@@ -134,7 +134,7 @@ class StructuralReport:
                 "rc": {
                     "N-F": self.rc,
                     **(
-                        {"seed": mob.redundant_constraints_seed(a, self.N)}
+                        {"assortment": mob.redundant_constraints_by_assortment(a, self.N)}
                         if self.lam == 3
                         else {}
                     ),

@@ -1,6 +1,6 @@
-"""Plain-text rendering of a :class:`~mjstruct.report.StructuralReport` in the seed's style:
-one bullet per quantity, each formula written out with the numbers put in, and both
-formulas where the seed gives two.
+"""Plain-text rendering of a :class:`~mjstruct.report.StructuralReport` in the style of
+[MJ structure 2020]: one bullet per quantity, each formula written out with the numbers
+put in, and both formulas where the paper gives two.
 """
 
 from __future__ import annotations
@@ -96,13 +96,13 @@ def render(r: StructuralReport) -> str:
         else:
             bullet(f"loop assortment: none — {r.loops_note}")
     rc_line = f"redundant constraints, N = {r.N}: rc = N − F = {r.N} − {_n(r.F)} = {_n(r.rc)}"
-    if "seed" in d["checks"]["rc"]:
+    if "assortment" in d["checks"]["rc"]:
         beyond = [(k - 1, f"n{k + 2}", ni) for k, ni in enumerate(la) if k >= 2]
         bs, bn = _terms(beyond)
         n2 = la[0] if la else 0
         rc_line += (
             f"; rc = (N + V + 3) − (n2 − ({bs})) = {r.N + a.V + 3} − ({n2} − ({bn})) = "
-            f"{d['checks']['rc']['seed']}"
+            f"{d['checks']['rc']['assortment']}"
         )
     bullet(rc_line)
     if r.generic is not None:

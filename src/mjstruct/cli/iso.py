@@ -1,5 +1,18 @@
-"""``mjstruct iso FILE_A FILE_B``: exact isomorphism by canonical codes, with the seed's
-invariants ([LA], [MJA], [L], link sets at MJs) side by side."""
+"""``mjstruct iso FILE_A FILE_B``: exact isomorphism by canonical codes, with the
+structural invariants of [MJ structure 2020] ([LA], [MJA], [L], link sets at MJs) side by
+side.
+
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
+"""
 
 from __future__ import annotations
 
@@ -53,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     verdict = "isomorphic" if ca == cb else "not isomorphic"
     lines = [f"{args.file_a}: {ca}", f"{args.file_b}: {cb}", f"{verdict} ({args.level} level)"]
-    lines.append("seed invariants (A | B):")
+    lines.append("structural invariants (A | B):")
     da, db = ia.to_dict(), ib.to_dict()
     labels = {"LA": "[LA]", "MJA": "[MJA]", "loops": "[L]", "mj_link_sets": "links at MJs"}
     for key, label in labels.items():
@@ -61,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         lines.append(f"  {label:<13} {_fmt(da[key])} | {_fmt(db[key])}{mark}")
     if agree and ca != cb:
         lines.append(
-            "the seed's invariants agree but the chains are NOT isomorphic: "
+            "the structural invariants agree but the chains are NOT isomorphic: "
             "the invariants are necessary, not sufficient"
         )
     emit_text("\n".join(lines))

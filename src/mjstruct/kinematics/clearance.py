@@ -11,6 +11,13 @@ total radial clearance ``D`` in the chain the longer link can turn by ``psi`` ab
 its pivot while the chain still closes:
 ``cos(psi/2) = [(l +- r)^2 + l^2 - (r + D)^2] / [2 l (l +- r)]`` (clipped to [-1, 1]).
 
+References
+----------
+.. [1] Singular positions and synthesis of hinged multi-joint mechanisms with
+   clearances in their revolute pairs (in Russian; eLibrary document code EDN PBGDPR;
+   authors, exact title, journal and year not given in the available copy).
+   [Four-bar clearances] in docs/references.md.
+
 Examples
 --------
 >>> import math

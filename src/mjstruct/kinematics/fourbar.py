@@ -10,6 +10,13 @@ general Jacobian analysis of :mod:`mjstruct.kinematics.singular`.
 Angles here are measured from the frame line O1 -> O2: ``phi`` is the direction of
 O1 -> A (input), ``theta`` that of O2 -> B (output).
 
+References
+----------
+.. [1] Singular positions and synthesis of hinged multi-joint mechanisms with
+   clearances in their revolute pairs (in Russian; eLibrary document code EDN PBGDPR;
+   authors, exact title, journal and year not given in the available copy).
+   [Four-bar clearances] in docs/references.md.
+
 Examples
 --------
 MS4 = [0.5 1 1.5] swings its output through the change point by 2 arccos(1/3):

@@ -18,6 +18,13 @@ the closed-form theory of :mod:`mjstruct.kinematics.fourbar`.  A branch along wh
 a minor vanishes identically (a joint sitting on another over a range: MS2's dwell,
 MS5's locked input) is a fold arc, named in the warnings.
 
+References
+----------
+.. [1] Singular positions and synthesis of hinged multi-joint mechanisms with
+   clearances in their revolute pairs (in Russian; eLibrary document code EDN PBGDPR;
+   authors, exact title, journal and year not given in the available copy).
+   [Four-bar clearances] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.io import read_mechanism

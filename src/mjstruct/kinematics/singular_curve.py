@@ -11,6 +11,13 @@ residual on the two-dimensional null space and traced in turn.
 This is independent of the triangle-rule solver, so it passes through change points
 and input limits that stop a driven sweep, and it checks that solver.
 
+References
+----------
+.. [1] Singular positions and synthesis of hinged multi-joint mechanisms with
+   clearances in their revolute pairs (in Russian; eLibrary document code EDN PBGDPR;
+   authors, exact title, journal and year not given in the available copy).
+   [Four-bar clearances] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.io import read_mechanism

@@ -7,6 +7,13 @@ reference points M1-M5 and a given mechanism's point; and
 :func:`plot_singular_zones`, a four-bar drawn at each of its singular positions with
 the wedge of its clearance zone at the pivot of the zone's link.
 
+References
+----------
+.. [1] Singular positions and synthesis of hinged multi-joint mechanisms with
+   clearances in their revolute pairs (in Russian; eLibrary document code EDN PBGDPR;
+   authors, exact title, journal and year not given in the available copy).
+   [Four-bar clearances] in docs/references.md.
+
 Examples
 --------
 >>> import matplotlib

@@ -3,6 +3,17 @@
 :class:`Assortment` is the code-level view of a chain (what a structural code says);
 :func:`assortment` reads it off a mechanism's graph.
 
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.mechanism import Mechanism

@@ -1,10 +1,21 @@
 """Structural codes: Code = [LA]/V and Code* = [LA]/[MJA], written and parsed.
 
-Writing follows the seed: counts as digits, a two-digit leading count closed by a dot
+Writing follows [MJ structure 2020]: counts as digits, a two-digit leading count closed by a dot
 (``[11.0001]/4``); [LA] is padded with zeros up to n_(K+1) and [MJA] up to ν_K (the
 widest link and joint a K-loop chain may have), so ``[8110]/[3·0·0]`` for K = 4.
 Counts of 10 or more elsewhere than the front are written with ``·`` between all
 counts, which the parser also accepts (as it accepts spaces and commas).
+
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
 
 Examples
 --------

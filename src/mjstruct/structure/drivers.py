@@ -14,8 +14,12 @@ rigid sub-chain; and a slider-crank driven at ``O1`` and ``A`` is over-constrain
 
 References
 ----------
-A. Lee, I. Streinu, "Pebble game algorithms and sparse graphs", Discrete Mathematics
-308 (8), 2008, pp. 1425-1437.
+.. [1] A. Lee, I. Streinu, "Pebble game algorithms and sparse graphs", Discrete
+   Mathematics, vol. 308, no. 8, pp. 1425–1437, 2008. [Lee & Streinu 2008] in
+   docs/references.md.
+.. [2] D. J. Jacobs, B. Hendrickson, "An algorithm for two-dimensional rigidity
+   percolation: the pebble game", Journal of Computational Physics, vol. 137,
+   pp. 346–365, 1997. [Jacobs & Hendrickson 1997] in docs/references.md.
 
 Examples
 --------

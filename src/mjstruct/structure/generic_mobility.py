@@ -11,6 +11,15 @@ extra freedom.  :func:`generic_mobility` gives
 * with the drivers held: links locked to the frame, links still free (under-driven),
   and drivers whose motion the others or the structure already fix (over-driven).
 
+References
+----------
+.. [1] A. Lee, I. Streinu, "Pebble game algorithms and sparse graphs", Discrete
+   Mathematics, vol. 308, no. 8, pp. 1425–1437, 2008. [Lee & Streinu 2008] in
+   docs/references.md.
+.. [2] D. J. Jacobs, B. Hendrickson, "An algorithm for two-dimensional rigidity
+   percolation: the pebble game", Journal of Computational Physics, vol. 137,
+   pp. 346–365, 1997. [Jacobs & Hendrickson 1997] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.mechanism import Mechanism

@@ -1,12 +1,18 @@
-"""The signed incidence matrix of seed 000 (links × simple-joint equivalents) and the
-joint kinds H (1 revolute, 2 prismatic).
+"""The signed incidence matrix of [Panasenko 2025] (links × simple-joint equivalents)
+and the joint kinds H (1 revolute, 2 prismatic).
 
 Column k has −1 on the first listed link of the joint and +1 on the other (Newton's
-third law; the seed puts + on the link whose reaction it draws), so every column sums
+third law; the paper puts + on the link whose reaction it draws), so every column sums
 to 0 when the frame row is included.  A multiple joint with links (a, b, c, ...) is
 expanded into the simple joints (a, b), (a, c), ...: the first listed link carries the
 pin and each other link is pinned to it.  Columns of an MJ are named ``A``, ``A/2``,
 ``A/3`` ...
+
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
 
 Examples
 --------

@@ -1,6 +1,7 @@
-"""The seed's isomorphism invariants: [LA], [MJA], [L] and the link sets at each MJ.
+"""Structural invariants for isomorphism: [LA], [MJA], [L] and the link sets at each MJ.
 
-Seed 002 decides whether two drawings are the same structure by comparing these.
+[MJ structure 2020] decides whether two drawings are the same structure by comparing
+these (the name :func:`seed_invariants` is kept for compatibility).
 They are necessary conditions only: equal invariants do not make two chains
 isomorphic (``catalogs/examples/iso-counterexample-a.json`` and ``-b.json`` are such a
 pair).  The exact test is :func:`mjstruct.structure.isomorphism.canonical_code`.
@@ -8,6 +9,17 @@ pair).  The exact test is :func:`mjstruct.structure.isomorphism.canonical_code`.
 "Link sets at MJs": for every multiple joint, the sorted numbers of joints of the
 links it joins (e.g. ``(2, 2, 3)``: two binary links and a ternary one); the list of
 these over all MJs, sorted.
+
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
 
 Examples
 --------
@@ -29,7 +41,8 @@ from mjstruct.mechanism import Mechanism
 
 @dataclass(frozen=True)
 class SeedInvariants:
-    """The invariants seed 002 compares; ``loops`` is None for a non-planar chain."""
+    """The structural invariants [MJ structure 2020] compares; ``loops`` is None for a
+    non-planar chain."""
 
     LA: tuple[int, ...]
     MJA: tuple[int, ...]

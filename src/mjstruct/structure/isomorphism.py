@@ -7,6 +7,12 @@ colour-class sizes and a SHA-256 digest of nauty's certificate, so two files get
 same code exactly when their coloured graphs are isomorphic (up to a 128-bit digest
 collision).
 
+References
+----------
+.. [1] B. D. McKay, A. Piperno, "Practical graph isomorphism, II", Journal of
+   Symbolic Computation, vol. 60, pp. 94–112, 2014. [McKay & Piperno 2014] in
+   docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.mechanism import Mechanism

@@ -9,7 +9,7 @@ planar embeddings with different face sizes.  Rule, in order:
 
 1. ``"minimal"``: over all embeddings, the sorted face-size list that is smallest
    lexicographically (most small loops first: the drawing a designer makes, e.g.
-   the seed's [4 4 4 4 13] for the excavator).  This is a graph invariant.  It is
+   [4 4 4 4 13] for the excavator of [MJ structure 2020]).  This is a graph invariant.  It is
    found by enumerating rotation systems of the graph with degree-2 vertices
    suppressed, when there are at most :data:`EXACT_LIMIT` of them.
 2. ``"canonical"``: otherwise, the embedding networkx finds for the graph relabelled
@@ -17,6 +17,17 @@ planar embeddings with different face sizes.  Rule, in order:
    order, but one embedding among several.
 
 A non-planar chain has no [L]: :func:`loop_assortment` returns ``None``.
+
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
 
 Examples
 --------

@@ -1,11 +1,22 @@
 """Loops K, the AVC check, DOF F, redundant constraints rc and loop side sums S_L.
 
-Each quantity the seed gives two ways is computed both ways, so a report can show
+Each quantity [MJ structure 2020] gives two ways is computed both ways, so a report can show
 that they agree.  Values are :class:`~fractions.Fraction` where an inconsistent code
 can make them non-integral (K from an assortment whose parity is wrong).
 
 λ is the dimension of the motion space (3 for planar mechanisms); with one-freedom
 pairs F = λ(n - 1) - (λ - 1) p = (n - 1) - (λ - 1) K.
+
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
 
 Examples
 --------
@@ -87,8 +98,11 @@ def redundant_constraints(N: int, F: Fraction | int) -> Fraction:
     return N - Fraction(F)
 
 
-def redundant_constraints_seed(a: Assortment, N: int) -> int:
-    """The seed's form rc = (N + V + 3) - (n2 - n4 - 2 n5 - ...), planar."""
+def redundant_constraints_by_assortment(a: Assortment, N: int) -> int:
+    """rc from the assortment, (N + V + 3) - (n2 - n4 - 2 n5 - ...), planar.
+
+    The second form of rc in [MJ structure 2020]; it equals N - F for a consistent code.
+    """
     n2 = a.LA[0] if a.LA else 0
     beyond = sum((k - 1) * ni for k, ni in enumerate(a.LA) if k >= 2)
     return (N + a.V + 3) - (n2 - beyond + 2 * a.n1)
@@ -105,7 +119,7 @@ def side_sum_by_dof(F: Fraction | int, K: Fraction | int, V: int) -> Fraction:
 
 
 def theorem_violations(a: Assortment, K: Fraction | int) -> list[str]:
-    """The seed's consistency conditions that fail for this assortment and K."""
+    """The consistency conditions of [MJ structure 2020] that fail for this assortment and K."""
     K = Fraction(K)
     out = []
     if (a.V + a.excess) % 2:

@@ -22,6 +22,12 @@ Chains are sorted by (V, [MJA], [LA], canonical code), so the simple-joint atlas
 prefix of the one with multiple joints and the order does not depend on the number of
 workers.
 
+References
+----------
+.. [1] B. D. McKay, A. Piperno, "Practical graph isomorphism, II", Journal of
+   Symbolic Computation, vol. 60, pp. 94–112, 2014. [McKay & Piperno 2014] in
+   docs/references.md.
+
 Examples
 --------
 >>> [atlas(1, n).count for n in (4, 6, 8)]

@@ -1,11 +1,23 @@
-"""Synthesis cells (K, V) of the seed's Fig. 10, their assortments, and realisable codes.
+"""Synthesis cells (K, V) of [MJ structure 2020], Fig. 10, their assortments and
+realisable codes.
 
 A chain with multiple joints has K >= 2 loops and MJ factor 1 <= V <= 2(K - 1); the
 pair (K, V) is its *cell*.  Inside a cell the [MJA] are the partitions of V into parts
 j - 1 with 2 <= j <= K, and for F DOF the [LA] are the ways to give n = F + 1 + 2K
 links Σ (i - 2) n_i = 2(K - 1) - V extra joints.  Counting the non-isomorphic
 admissible chains of each (cell, [MJA], [LA]) gives the table of correct structural
-codes (the seed's "universal table"): a code with count 0 has no admissible chain.
+codes (the "universal table" of [MJ structure 2020]): a code with count 0 has no admissible chain.
+
+References
+----------
+.. [1] A paper on the system analysis of the structure and mobility of planar
+   multi-loop linkage mechanisms with multiple joints (in Russian, with an English
+   abstract; authors and exact title not given in the available copy), Izvestiya
+   vysshikh uchebnykh zavedenii. Mashinostroenie (Proceedings of Higher Educational
+   Institutions. Machine Building), no. 2 (719), 2020. [MJ structure 2020] in
+   docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
 
 Examples
 --------

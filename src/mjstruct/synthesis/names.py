@@ -1,4 +1,5 @@
-"""Familiar names of chains: the classic ones and the seed's worked examples.
+"""Familiar names of chains: the classic ones and the worked examples of
+[MJ structure 2020].
 
 A name belongs to a chain (no frame): it is keyed by the chain-level canonical code,
 so any drawing of a Watt six-bar is called "Watt six-bar".
@@ -26,12 +27,13 @@ CLASSIC: dict[str, list[list[int]]] = {
     "Stephenson six-bar": [[0, 1], [0, 3], [1, 2], [2, 3], [1, 4], [4, 5], [5, 3]],
 }
 
-# shipped example files whose chains are named after the seed's worked examples
+# shipped example files whose chains are named after the worked examples of
+# [MJ structure 2020]
 EXAMPLES: dict[str, str] = {
-    "seed002-ex1-needle-drive": "needle drive chain (seed 002, example 1)",
-    "seed002-ex4-swivel-bucket": "swivel bucket drive chain (seed 002, example 4)",
-    "seed002-ex3-excavator": "excavator boom-arm-bucket chain (seed 002, example 3)",
-    "radial-engine-5": "5-cylinder radial engine chain (seed 002, example 2)",
+    "seed002-ex1-needle-drive": "needle drive chain ([MJ structure 2020], example 1)",
+    "seed002-ex4-swivel-bucket": "swivel bucket drive chain ([MJ structure 2020], example 4)",
+    "seed002-ex3-excavator": "excavator boom-arm-bucket chain ([MJ structure 2020], example 3)",
+    "radial-engine-5": "5-cylinder radial engine chain ([MJ structure 2020], example 2)",
 }
 
 

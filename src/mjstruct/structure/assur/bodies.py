@@ -6,6 +6,8 @@ frame); the *initial mechanisms* are ``(driver, base link, driven link)``.  Join
 are kept with the distinct bodies they touch (:data:`LevelJoint`); rigid clusters
 solved on the way are merged into new bodies with :meth:`BodyModel.merge`.
 
+Examples
+--------
 >>> from mjstruct.mechanism import Mechanism
 >>> four_bar = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 3]),
 ...                             ("O2", [3, 0])], frame=0)

@@ -41,6 +41,8 @@ def driver_choices(
     their status (under- or over-driven).  ``redundant`` counts the redundant drivers
     and the chain's own redundant constraints.
 
+    Examples
+    --------
     >>> from mjstruct.mechanism import Mechanism
     >>> m = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 3]),
     ...                      ("O2", [3, 0])], frame=0)

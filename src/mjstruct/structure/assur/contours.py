@@ -7,8 +7,11 @@ vertex of the contour graph, so a contour never passes twice through it.
 
 References
 ----------
-I. I. Artobolevsky, *Theory of Mechanisms and Machines* (Teoriya mekhanizmov i
-mashin), Moscow: Nauka, 1988.
+.. [1] L. V. Assur, "Investigation of planar bar mechanisms with lower pairs from the
+   point of view of their structure and classification" (in Russian), Bulletin of
+   the Petrograd Polytechnic Institute, 1913–1914. [Assur 1914] in docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
 """
 
 from __future__ import annotations

@@ -22,12 +22,17 @@ of each group (rules in ``docs/assur.md``):
 
 References
 ----------
-A. Sljoka, O. Shai, W. Whiteley, "Checking mobility and decomposition of linkages via
-pebble game algorithm", Proc. ASME IDETC/CIE 2011.  L. V. Assur, "Investigation of
-planar bar mechanisms with lower pairs from the point of view of their structure and
-classification", Bulletin of the Petrograd Polytechnic Institute, 1913-1914.
-R. E. Tarjan, "Depth-first search and linear graph algorithms", SIAM Journal on
-Computing 1 (2), 1972 (strongly connected components, through networkx).
+.. [1] L. V. Assur, "Investigation of planar bar mechanisms with lower pairs from the
+   point of view of their structure and classification" (in Russian), Bulletin of
+   the Petrograd Polytechnic Institute, 1913–1914. [Assur 1914] in docs/references.md.
+.. [2] I. I. Artobolevsky, Theory of Mechanisms and Machines (in Russian), Moscow:
+   Nauka, 1988. [Artobolevsky 1988] in docs/references.md.
+.. [3] A. Sljoka, O. Shai, W. Whiteley, "Checking mobility and decomposition of
+   linkages via pebble game algorithm", Proc. ASME IDETC/CIE 2011, Washington, DC,
+   2011. [Sljoka et al. 2011] in docs/references.md.
+.. [4] R. E. Tarjan, "Depth-first search and linear graph algorithms", SIAM Journal
+   on Computing, vol. 1, no. 2, pp. 146–160, 1972 (strongly connected components,
+   through networkx). [Tarjan 1972] in docs/references.md.
 
 Examples
 --------
@@ -225,6 +230,8 @@ def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decompos
     :func:`~mjstruct.structure.drivers.validate_drivers` (under-driven or
     over-constrained), or when the chain itself has redundant constraints.
 
+    Examples
+    --------
     >>> from mjstruct.io import read_mechanism
     >>> from mjstruct.catalog_files import example_path
     >>> d = assur_groups(read_mechanism(example_path("class-iv-seed003")))

@@ -4,6 +4,8 @@ This module owns :class:`AssurGroup`, :class:`Decomposition` and
 :class:`DriverChoice` (frozen, with ``to_dict`` for the JSON contract) and the Roman
 numerals of Artobolevsky's classes.
 
+Examples
+--------
 >>> roman(4), roman(12)
 ('IV', '12')
 """
