@@ -27,7 +27,7 @@ def test_tour_notebook_runs_and_shows_its_results(tmp_path):
         for o in c.outputs
     )
     assert "in the catalog: True" in text
-    assert "seed invariants agree: True" in text and "isomorphic: False" in text
+    assert "structural invariants agree: True" in text and "isomorphic: False" in text
     assert "4 with MJs allowed" in text
     assert "mechanism class 3" in text and "warnings: none" in text
     assert "same mechanism after the trip: True" in text

@@ -1,5 +1,5 @@
-"""The structural report: every quantity of the spec's table, as the contract's JSON
-object and as the bullet list of [MJ structure 2020] with both formulas shown.
+"""The structural report: every structural quantity, as the JSON object of
+docs/contract.md and as the bullet list of [MJ structure 2020] with both formulas shown.
 
 :func:`structural_report` works on a mechanism (graph known) and
 :func:`code_report` on a structural code alone (assortments known).  Both fill one
