@@ -1,8 +1,8 @@
 """Structural invariants for isomorphism: [LA], [MJA], [L] and the link sets at each MJ.
 
 [MJ structure 2020] decides whether two drawings are the same structure by comparing
-these (the name :func:`seed_invariants` is kept for compatibility).
-They are necessary conditions only: equal invariants do not make two chains
+these; :func:`seed_invariants` computes them (a historical name, kept for
+compatibility).  They are necessary conditions only: equal invariants do not make two chains
 isomorphic (``catalogs/examples/iso-counterexample-a.json`` and ``-b.json`` are such a
 pair).  The exact test is :func:`mjstruct.structure.isomorphism.canonical_code`.
 
@@ -41,8 +41,8 @@ from mjstruct.mechanism import Mechanism
 
 @dataclass(frozen=True)
 class SeedInvariants:
-    """The structural invariants [MJ structure 2020] compares; ``loops`` is None for a
-    non-planar chain."""
+    """The structural invariants of a chain (see :func:`seed_invariants`); ``loops`` is
+    None for a non-planar chain."""
 
     LA: tuple[int, ...]
     MJA: tuple[int, ...]
@@ -67,7 +67,14 @@ def mj_link_sets(m: Mechanism) -> tuple[tuple[int, ...], ...]:
 
 
 def seed_invariants(m: Mechanism) -> SeedInvariants:
-    """[LA], [MJA], [L] (sorted face sizes, outer face included) and the MJ link sets."""
+    """The structural invariants of a chain: [LA], [MJA], [L] and the MJ link sets.
+
+    These are the quantities [MJ structure 2020] compares to decide whether two
+    drawings are the same structure ([L] as sorted face sizes, outer face included).
+    Equal invariants are necessary for isomorphism, not sufficient: the exact test is
+    :func:`mjstruct.structure.isomorphism.canonical_code`.  (The name is historical
+    and kept for compatibility.)
+    """
     expect_mechanism(m)
     from mjstruct.structure.assortments import link_assortment, mj_assortment
     from mjstruct.structure.loops import loop_assortment
