@@ -88,7 +88,12 @@ def main(argv: list[str] | None = None) -> int:
 
     m24 = read_mechanism(example_path("seed002-ex5-24-link"))
     t, d = median_time(lambda: assur_groups(m24), 51)
-    line("assur_groups, 24-link example (seed 002 ex. 5)", t, 0.020, f"class {d.mechanism_class}")
+    line(
+        "assur_groups, 24-link example ([MJ structure 2020], ex. 5)",
+        t,
+        0.020,
+        f"class {d.mechanism_class}",
+    )
 
     m200 = mechanism_with_links(200)
     mjs = sum(j.is_multiple for j in m200.joints)

@@ -99,7 +99,7 @@ def main() -> None:
     ex24 = read_mechanism(EXAMPLES / "seed002-ex5-24-link.json")
     radial = read_mechanism(EXAMPLES / "radial-engine-5.json")
     cases: list[tuple[str, Mechanism]] = [
-        ("24-link example (seed 002 ex. 5)", ex24),
+        ("24-link example ([MJ structure 2020], ex. 5)", ex24),
         ("radial engine, 5 cylinders", radial),
         ("random 300-link chain with MJs", random_chain(300, seed=1)),
         ("planar 300-link grid chain with MJs", grid_chain(15, 20, seed=2)),
