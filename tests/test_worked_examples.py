@@ -98,6 +98,7 @@ def test_both_formulas_agree(examples, row):
     assert len(set(c["F"].values())) == 1
     assert len(set(c["S_L"].values())) == 1
     assert c["rc"]["N-F"] == c["rc"]["assortment"]
+    assert c["rc"]["seed"] == c["rc"]["assortment"]  # the 0.1.0 key stays for scripts
     assert d["violations"] == []
 
 

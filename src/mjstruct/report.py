@@ -134,7 +134,13 @@ class StructuralReport:
                 "rc": {
                     "N-F": self.rc,
                     **(
-                        {"assortment": mob.redundant_constraints_by_assortment(a, self.N)}
+                        {
+                            "assortment": (
+                                rc_a := mob.redundant_constraints_by_assortment(a, self.N)
+                            ),
+                            # the name this value had in 0.1.0; kept for scripts that read it
+                            "seed": rc_a,
+                        }
                         if self.lam == 3
                         else {}
                     ),
