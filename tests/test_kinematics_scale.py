@@ -133,15 +133,16 @@ def test_every_decomposable_mechanism_plans_and_closes_at_its_reference(groups, 
     """Random mechanisms (dyads, triads, class-IV groups, multiple joints, sliders) with
     random geometry, up to about 200 links: a plan, and the reference reproduced."""
     m = with_random_geometry(random_mechanism(groups, seed=seed), seed)
-    dec = assur_groups(m)
+    assert assur_groups(m).groups  # the decomposition accepts it
     model = KinematicModel.build(m)
-    # one closure unknown at least per group of class III or IV; none for dyads
-    iterated = sum(1 for g in dec.groups if g.klass >= 3)
-    assert model.plan.unknowns >= iterated
+    # as many closure equations as unknowns (generic geometry: no redundant constraint)
     assert model.plan.equations == model.plan.unknowns
     with np.errstate(all="ignore"):
         motion = model.motion(model.q_ref[None, :])
     assert motion.valid.all()
+    # reproduced to rounding, amplified by the worst-conditioned dyad (1 / its sine)
+    sines = [abs(float(det[0])) for _, det in motion.evaluation.diag.values()]
+    bound = 1e-9 * model.scale * (1.0 + 1.0 / min(sines, default=1.0))
     for j in m.joints:
         if j.kind == "R":
-            assert abs(motion.centre(j.id)[0][0] - complex(*j.at)) < 1e-9
+            assert abs(motion.centre(j.id)[0][0] - complex(*j.at)) < bound

@@ -34,7 +34,12 @@ import numpy.typing as npt
 
 from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.steps.base import Modes
-from mjstruct.kinematics.tolerances import NEWTON_TOL, STATION_STEP, STATION_TOL
+from mjstruct.kinematics.tolerances import (
+    NEWTON_TOL,
+    STALL_ERROR,
+    STATION_STEP,
+    STATION_TOL,
+)
 
 if TYPE_CHECKING:
     from mjstruct.kinematics.model import KinematicModel
@@ -95,7 +100,13 @@ def _solve(J: FloatArray, b: FloatArray) -> FloatArray:
             return np.asarray(np.linalg.solve(J, b[..., None])[..., 0], dtype=np.float64)
         except np.linalg.LinAlgError:
             pass
-    return np.stack([np.linalg.lstsq(Ji, bi, rcond=None)[0] for Ji, bi in zip(J, b, strict=True)])
+    # singular or not square: least squares per frame; frames with non-finite entries
+    # (a step that does not assemble) have no solution
+    out = np.full((*J.shape[:-2], J.shape[-1]), np.nan)
+    finite = np.isfinite(J).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1)
+    for i in np.flatnonzero(finite):
+        out[i] = np.linalg.lstsq(J[i], b[i], rcond=None)[0]
+    return out
 
 
 def newton(
@@ -106,7 +117,13 @@ def newton(
     tol: float = NEWTON_TOL,
     maxiter: int = 30,
 ) -> tuple[FloatArray, FloatArray, int, BoolArray]:
-    """Vectorised Newton with per-frame masks; returns t, error, iterations, converged."""
+    """Vectorised Newton with per-frame masks; returns t, error, iterations, converged.
+
+    A frame converges when its closure error (max |R| / scale) is at most ``tol``, or
+    when an iteration no longer halves it while it is within :data:`STALL_ERROR` times
+    ``tol``: the rounding floor of a long chain of ill-conditioned groups (the error
+    achieved is what is reported).
+    """
     t = t0.copy()
     F = t.shape[0]
     err = np.full(F, np.inf)
@@ -118,8 +135,9 @@ def newton(
         Ki = _subset_modes(K, idx)
         R, J = closure_jacobian(model, q[idx], t[idx], Ki)
         e = np.abs(R).max(axis=1) / scale
+        stalled = e >= 0.5 * err[idx]
         err[idx] = e
-        done = e <= tol
+        done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
         active[idx[done]] = False
         idx, R, J = idx[~done], R[~done], J[~done]
         if idx.size == 0:
@@ -141,7 +159,8 @@ def newton(
                 break
             alpha[bad] *= 0.5
         t[idx] += alpha[:, None] * step
-    return t, err, it, err <= tol
+    ok = ~active | (err <= tol)
+    return t, err, it, ok
 
 
 def _subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:

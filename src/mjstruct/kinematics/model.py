@@ -192,7 +192,8 @@ class KinematicModel:
         sol: Closure | None = None
         t = t1 = t2 = None
         if plan.unknowns:
-            sol = close(self, qa, rate, tol=tol)
+            with np.errstate(all="ignore"):  # trouble is reported per frame below
+                sol = close(self, qa, rate, tol=tol)
             # frames that did not close carry no configuration (null, reported)
             t = np.where(sol.converged[:, None], sol.t, np.nan)
             t1, t2 = sol.t1, sol.t2

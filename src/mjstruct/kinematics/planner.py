@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.geometry import Geometry, read_geometry
 from mjstruct.kinematics.steps import PLAN_RULES, STEP_KINDS, PlanState, Step, Topology
-from mjstruct.kinematics.steps.drivers import assume_angle
+from mjstruct.kinematics.steps.drivers import assume_angle, assume_slide
 from mjstruct.kinematics.tolerances import PLAN_RANK_TOL
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition, assur_groups
@@ -119,8 +119,12 @@ def _complete(st: PlanState) -> bool:
     return len(st.placed) == len(st.m.links)
 
 
-#: propagations the first pass's searches may run in all (they stop with the best plan
-#: found so far; the group-by-group pass follows when none is complete)
+#: link-propagations the first pass's searches may run in all (they stop with the best
+#: plan found so far; the group-by-group pass follows when none is complete)
+SEARCH_WORK = 100_000
+#: propagations the first pass may always run
+SEARCH_MIN = 200
+#: propagations one search may run when no budget is shared
 SEARCH_BUDGET = 2000
 #: assumed angles one search may stack (per group in the group-by-group pass)
 MAX_SEARCH_DEPTH = 3
@@ -146,15 +150,26 @@ def _search(
         if link in st.placed or (allowed is not None and link not in allowed):
             continue
         known = st.known_on(link)
-        if len(known) != 1:
-            continue
         trial = st.copy()
-        assume_angle(trial, link, known[0])
+        if len(known) == 1:
+            assume_angle(trial, link, known[0])
+        elif not known and (guide := _placed_guide(st, link)) is not None:
+            assume_slide(trial, link, guide)  # a slider with no known centre
+        else:
+            continue
         trial = _search(trial, depth - 1, allowed, budget)
         done = _complete(trial) or (allowed is not None and allowed <= trial.placed)
         if done and (best is None or _cost(trial) < _cost(best)):
             best = trial
     return best if best is not None else st
+
+
+def _placed_guide(st: PlanState, link: str) -> str | None:
+    """A guide (not a driver) of ``link`` on a placed link."""
+    for g in st.topo.guides[link]:
+        if any(x != link and x in st.placed for x in st.m.joint(g).links):
+            return g
+    return None
 
 
 def _cost(st: PlanState) -> tuple[int, int]:
@@ -221,7 +236,7 @@ def plan_kinematics(
     geom = geometry if geometry is not None else read_geometry(m, drv)
     assert m.frame is not None  # read_geometry checked it
     topo = Topology(m, drv)
-    groups, source, dec_ref, iterated = _groups_from(m, drv, decomposition)
+    groups, source, dec_ref, _ = _groups_from(m, drv, decomposition)
     refs = [m.frame] if dec_ref is None else [dec_ref, m.frame]
     # an inner driver (not on the frame) suggests solving in its first link's frame
     for d in drv:
@@ -230,10 +245,9 @@ def plan_kinematics(
     if groups is not None:
         trials += [(ref, groups, source) for ref in refs]
     trials += [(ref, None, "propagation") for ref in refs]
-    if iterated > MAX_SEARCH_DEPTH:
-        trials = []  # one search cannot assume an angle in each of these groups
     best: PlanState | None = None
-    budget = [SEARCH_BUDGET]  # shared by the trials of the first pass
+    # shared by the trials of the first pass; a propagation costs about n
+    budget = [max(SEARCH_MIN, SEARCH_WORK // len(m.links))]
     for ref, grp, src in trials:
         st = _run(m, geom, topo, ref, grp, budget=budget)
         if _complete(st) and (best is None or _cost(st) < _cost(best)):

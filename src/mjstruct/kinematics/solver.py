@@ -79,14 +79,18 @@ def kinematic_analysis(
         raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
     qa = km.sweep(frames, speed, stroke) if q is None else km.driver_values(q)
     motion = km.motion(qa, order=2, tol=tol)
-    result = collect(motion, speed)
+    # frames near a singular position may carry infinite analogs: they are not valid
+    # (reported), and their arithmetic must not warn
+    with np.errstate(all="ignore"):
+        result = collect(motion, speed)
     warnings = list(motion.warnings)
     warnings += [e.message() for e in motion.events]
     warnings += _parallel_guides(km.plan, motion.evaluation, qa)
     warnings += _infeasible(result)
     result.warnings = warnings
     if checks:
-        run_checks(result, motion)
+        with np.errstate(all="ignore"):
+            run_checks(result, motion)
     return result
 
 

@@ -38,6 +38,9 @@ REDUNDANT_HOLDS = 1e-9
 CLOSURE_TOL = 1e-12
 #: the closure's own default (Newton stops there; the model asks for CLOSURE_TOL)
 NEWTON_TOL = 1e-13
+#: a frame whose Newton iteration stalls (no longer halves its error) counts as closed
+#: when its error is within this factor of the tolerance (the rounding floor)
+STALL_ERROR = 1e3
 #: continuation stations never closed more loosely than this
 STATION_TOL = 1e-10
 #: largest continuation step along the path (radians of the driver, or scale units)

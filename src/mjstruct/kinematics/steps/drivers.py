@@ -58,6 +58,23 @@ def _driver(s: Step, k: int, run: Run) -> None:
     run.place(driven, Pose(C[s.joint], X, base.r, list(base.w)))
 
 
+def _assume_slide(s: Step, k: int, run: Run) -> None:
+    # like a prismatic driver, with the slide a closure unknown (its second
+    # derivative is an unknown's too, not zero as at constant driver speed)
+    C = run.geometry.centres
+    i = s.index
+    base = run.poses[s.base]
+    A = base.point(C[s.joint])
+    u = base.vector(run.geometry.axes[s.joint])
+    d, d1, d2 = run.t[:, i], run.t1[:, i], run.t2[:, i]
+    X: Jet = [A[0] + d * u[0]]
+    if run.order >= 1:
+        X.append(A[1] + d1 * u[0] + d * u[1])
+    if run.order >= 2:
+        X.append(A[2] + d2 * u[0] + 2 * d1 * u[1] + d * u[2])
+    run.place(s.links[0], Pose(C[s.joint], X, base.r, list(base.w)))
+
+
 def _assume(s: Step, k: int, run: Run) -> None:
     i = s.index
     w: Jet = [run.t1[:, i], run.t2[:, i]][: run.order]
@@ -67,6 +84,10 @@ def _assume(s: Step, k: int, run: Run) -> None:
 
 def _driver_reads(s: Step, m: Mechanism) -> tuple[tuple[str, ...], tuple[str, ...]]:
     return (s.base,), (s.joint,)
+
+
+def _base_reads(s: Step, m: Mechanism) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    return (s.base,), ()
 
 
 register(
@@ -101,6 +122,15 @@ register(
         reads=lambda s, m: ((), (s.joint,)),
     )
 )
+register(
+    StepKind(
+        "assume-slide",
+        "assume the slide t{n} of link {links[0]} along the guide {joint} of link {base} "
+        "(closure unknown)",
+        _assume_slide,
+        reads=_base_reads,
+    )
+)
 
 
 def _plan_drivers(st: PlanState, _: str) -> bool:
@@ -124,6 +154,14 @@ def assume_angle(st: PlanState, link: str, joint: str) -> None:
     step = st.add(Step("assume", (link,), joint=joint, index=st.unknowns))
     st.unknowns += 1
     st.place(link, step, (joint,))
+
+
+def assume_slide(st: PlanState, link: str, guide: str) -> None:
+    """Place ``link`` on its ``guide`` of a placed link by a new closure unknown."""
+    base = next(x for x in st.m.joint(guide).links if x != link)
+    step = st.add(Step("assume-slide", (link,), joint=guide, base=base, index=st.unknowns))
+    st.unknowns += 1
+    st.place(link, step, (guide,))
 
 
 register_rule(PlanRule("drivers", "drivers", 10, _plan_drivers))
