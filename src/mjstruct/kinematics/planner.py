@@ -144,19 +144,22 @@ def _search(
     if _complete(st) or (allowed is not None and allowed <= st.placed) or depth == 0:
         return st
     best: PlanState | None = None
-    for link in st.m.links:
+    # angles about a known centre first, then slides of links with no known centre
+    # on a placed guide (a later trial replaces an earlier one only when cheaper)
+    for link, slide in [(x, False) for x in st.m.links] + [(x, True) for x in st.m.links]:
         if budget[0] <= 0:
             break
         if link in st.placed or (allowed is not None and link not in allowed):
             continue
         known = st.known_on(link)
-        trial = st.copy()
-        if len(known) == 1:
-            assume_angle(trial, link, known[0])
-        elif not known and (guide := _placed_guide(st, link)) is not None:
-            assume_slide(trial, link, guide)  # a slider with no known centre
-        else:
+        guide = _placed_guide(st, link) if slide and not known else None
+        if (not slide and len(known) != 1) or (slide and guide is None):
             continue
+        trial = st.copy()
+        if guide is None:
+            assume_angle(trial, link, known[0])
+        else:
+            assume_slide(trial, link, guide)
         trial = _search(trial, depth - 1, allowed, budget)
         done = _complete(trial) or (allowed is not None and allowed <= trial.placed)
         if done and (best is None or _cost(trial) < _cost(best)):
