@@ -250,6 +250,45 @@ def _chunk(nu: int, nc: int) -> int:
     return max(1, MEMORY_BUDGET // (8 * max(1, (nu + 1) * nc)))
 
 
+#: above this many rows the determinant is taken from a sparse LU factorisation
+SPARSE_ROWS = 200
+#: above this many matrix entries no SVD is run for the rank (n^3 time); the rank is
+#: then known only where the determinant is not small
+SVD_ENTRIES = 4_000_000
+
+
+def _slogdet(A: FloatArray) -> tuple[float, float]:
+    """Sign and log |det| of one square matrix (sparse LU when it is large)."""
+    if A.shape[0] <= SPARSE_ROWS:
+        s, lg = np.linalg.slogdet(A)
+        return float(s), float(lg)
+    from scipy.sparse import csc_matrix
+    from scipy.sparse.linalg import splu
+
+    try:
+        lu = splu(csc_matrix(A))
+    except RuntimeError:  # exactly singular
+        return 0.0, float("-inf")
+    d = lu.U.diagonal()
+    sign = float(np.prod(np.sign(d))) * _parity(lu.perm_r) * _parity(lu.perm_c)
+    with np.errstate(divide="ignore"):
+        return sign, float(np.log(np.abs(d)).sum())
+
+
+def _parity(perm: npt.NDArray[np.int32]) -> float:
+    """+1 for an even permutation, -1 for an odd one."""
+    seen = np.zeros(perm.size, bool)
+    swaps = 0
+    for i in range(perm.size):
+        length = 0
+        while not seen[i]:
+            seen[i] = True
+            i = int(perm[i])
+            length += 1
+        swaps += max(0, length - 1)
+    return -1.0 if swaps % 2 else 1.0
+
+
 def _ranks(J: FloatArray, nu: int, nc: int) -> IntArray:
     if J.shape[0] == 0:
         return np.zeros(0, dtype=np.int_)
@@ -319,8 +358,19 @@ def _factored(
     good = np.flatnonzero(ok & (logf >= logf[ok].max() - np.log(2.0)))
     cal = good[np.linspace(0, good.size - 1, min(good.size, CALIBRATION_FRAMES)).astype(int)]
     cal = np.unique(cal)
-    J, D = constraint_jacobian(m, geom, poses_at(poses, cal), drivers)
-    s_dir, l_dir = np.linalg.slogdet(np.concatenate([J, D], axis=1))
+    # one frame at a time (a large mechanism's dense Jacobian is n^2 in memory); the
+    # matrices kept for the result stay within the memory budget
+    kept: list[FloatArray] = []
+    dets: list[tuple[float, float]] = []
+    for i in range(cal.size):
+        Ji, Di = constraint_jacobian(m, geom, poses_at(poses, cal[i : i + 1]), drivers)
+        dets.append(_slogdet(np.concatenate([Ji, Di], axis=1)[0]))
+        if len(kept) < _chunk(nu, nc):
+            kept.append(Ji)
+    J = np.concatenate(kept)
+    cal_kept = cal[: J.shape[0]]
+    s_dir = np.array([d[0] for d in dets])
+    l_dir = np.array([d[1] for d in dets])
     if not (np.isfinite(l_dir).all() and (s_dir != 0).all()):
         return None
     log_c = l_dir - logf[cal]
@@ -337,12 +387,14 @@ def _factored(
     strong = finite & (logdet >= top + np.log(NEAR_SINGULAR))
     rank[strong] = nu  # a nonzero determinant of [J; D]: the rows of J are independent
     weak = _dips(logdet, finite & ~strong, min(sample, RANK_FRAMES, _chunk(nu, nc)))
+    if nu * nc > SVD_ENTRIES:
+        weak = weak[:0]
     if weak.size:
         Jw, _ = constraint_jacobian(m, geom, poses_at(poses, weak), drivers)
         rank[weak] = _ranks(Jw, nu, nc)
     else:
         Jw = np.zeros((0, nu, nc))
-    keep = np.concatenate([cal, weak])
+    keep = np.concatenate([cal_kept, weak])
     order = np.argsort(keep, kind="stable")
     return JacobianCheck(
         np.concatenate([J, Jw])[order],
