@@ -108,6 +108,10 @@ def redundant_constraints_by_assortment(a: Assortment, N: int) -> int:
     return (N + a.V + 3) - (n2 - beyond + 2 * a.n1)
 
 
+# the name this function had in 0.1.0, kept for scripts that import it
+redundant_constraints_seed = redundant_constraints_by_assortment
+
+
 def side_sum(a: Assortment) -> int:
     """S_L = Σ i n_i."""
     return a.sides
