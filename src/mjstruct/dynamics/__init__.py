@@ -6,8 +6,15 @@ package's name).  Modules: ``expressions`` (safe load expressions), ``data`` (th
 file keys), ``matrices`` (incidence, position functions, analogs, inertia and force
 matrices), ``equation`` (V, W, Q, work integrals, steady motion, q̇(q), q̈(q)),
 ``reactions`` (the stacked linear system and its check), ``analysis`` (the entry point
-and result), ``report`` (text and CSV).  A time integrator builds on
-:class:`~mjstruct.dynamics.equation.PathForce` (V, W, Q at any q).
+and result), ``report`` (text and CSV), ``time`` (motion in time: run-up and run-down,
+stiffness test, explicit or implicit integrators) on ``time_terms`` (V, W and the loads'
+analogs at any q).
+
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
 """
 
 from __future__ import annotations

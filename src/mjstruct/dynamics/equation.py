@@ -23,9 +23,15 @@ Integration methods (``method``):
     the trapezoid rule on 2ⁿ equal steps of the cycle, interpolated linearly to the frames.
 ``fft``
     the 2ⁿ samples fitted by a Fourier series of ``harmonics`` terms and integrated
-    analytically (the seed's route for periodic Q).
+    analytically (the route of [Panasenko 2025] for periodic Q).
 ``adaptive``
     ``scipy.integrate.quad_vec`` between frames and jumps.
+
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
 
 Examples
 --------

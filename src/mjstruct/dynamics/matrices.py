@@ -14,6 +14,12 @@ Owns the five input matrices of the force analysis and their motion derivatives:
 
 Positions are complex numbers ``x + iy`` inside; the public arrays are real.
 
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.io import read_mechanism

@@ -17,6 +17,12 @@ All frames are solved at once (``np.linalg.solve`` on a frames × u × u stack).
 analogs σ, independent of the link equations): its residual, relative to the largest
 load of the frame, is the final check.
 
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
+
 Examples
 --------
 >>> import numpy as np
