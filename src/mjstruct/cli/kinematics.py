@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from mjstruct.cli.output import driver_list, emit_json, emit_text
 from mjstruct.errors import MechanismError
@@ -18,7 +19,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--stroke", type=float, default=1.0, help="sweep of a prismatic driver (default 1)"
     )
-    p.add_argument("--tol", type=float, default=1e-12, help="closure tolerance (relative)")
+    p.add_argument(
+        "--tol",
+        type=float,
+        default=1e-12,
+        help="closure tolerance, relative to the mechanism's size (default 1e-12, at least 1e-15)",
+    )
+    p.add_argument(
+        "--max-memory",
+        type=int,
+        metavar="BYTES",
+        help="refuse sweeps estimated above this (default $MJSTRUCT_MAX_MEMORY_BYTES or 2 GiB)",
+    )
     p.add_argument(
         "--no-checks",
         action="store_true",
@@ -32,24 +44,38 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
     from mjstruct.kinematics.report import render, write_csv
     from mjstruct.kinematics.solver import kinematic_analysis
+    from mjstruct.kinematics.tolerances import TOL_FLOOR
 
     if args.frames < 1:
         raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
-    if not args.speed == args.speed or args.speed == 0:
-        raise MechanismError("--speed: must be a nonzero number")
-    if not 0 < args.tol < 1:
-        raise MechanismError(f"--tol: must be in (0, 1), got {args.tol}")
+    if not math.isfinite(args.speed) or args.speed == 0:
+        raise MechanismError(f"--speed: must be a finite nonzero number, got {args.speed}")
+    if not math.isfinite(args.stroke):
+        raise MechanismError(f"--stroke: must be a finite number, got {args.stroke}")
+    if not TOL_FLOOR <= args.tol < 1:
+        raise MechanismError(
+            f"--tol: must be in [{TOL_FLOOR:g}, 1) (relative to the mechanism's size), "
+            f"got {args.tol:g}"
+        )
+    if args.max_memory is not None and args.max_memory <= 0:
+        raise MechanismError(
+            f"--max-memory: must be a positive number of bytes, got {args.max_memory}"
+        )
     m = read_mechanism(args.file)
     drivers = driver_list(args.drivers, m)
-    r = kinematic_analysis(
-        m,
-        drivers=drivers,
-        frames=args.frames,
-        speed=args.speed,
-        stroke=args.stroke,
-        tol=args.tol,
-        checks=not args.no_checks,
-    )
+    try:
+        r = kinematic_analysis(
+            m,
+            drivers=drivers,
+            frames=args.frames,
+            speed=args.speed,
+            stroke=args.stroke,
+            tol=args.tol,
+            checks=not args.no_checks,
+            max_memory=args.max_memory,
+        )
+    except MechanismError as exc:
+        raise MechanismError(_flag_names(str(exc))) from None
     if args.csv:
         try:
             write_csv(r, args.csv)
@@ -60,3 +86,22 @@ def run(args: argparse.Namespace) -> int:
     else:
         emit_text(render(r))
     return 0
+
+
+#: the library's parameter names and the flags that set them
+_FLAGS = {
+    "drivers:": "--drivers:",
+    "speed:": "--speed:",
+    "frames:": "--frames:",
+    "tol:": "--tol:",
+    "stroke:": "--stroke:",
+    "max_memory": "--max-memory",
+}
+
+
+def _flag_names(message: str) -> str:
+    """A library message with its leading parameter name turned into the flag's."""
+    for name, flag in _FLAGS.items():
+        if message.startswith(name):
+            message = flag + message[len(name) :]
+    return message.replace("(max_memory, or", "(--max-memory, or")

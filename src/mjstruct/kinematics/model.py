@@ -37,7 +37,7 @@ from mjstruct.kinematics.closure import Closure, close
 from mjstruct.kinematics.evaluate import Evaluation, evaluate
 from mjstruct.kinematics.geometry import Geometry, read_geometry
 from mjstruct.kinematics.planner import Plan, plan_kinematics
-from mjstruct.kinematics.tolerances import CLOSURE_TOL, REDUNDANT_HOLDS
+from mjstruct.kinematics.tolerances import CLOSURE_TOL, REDUNDANT_HOLDS, TOL_FLOOR
 from mjstruct.kinematics.triangles import Jet
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition
@@ -183,8 +183,14 @@ class KinematicModel:
         order : 0 positions only, 1 with first, 2 with second derivatives.
         rates : dq_i/dτ of each driver along the path (default 1: the derivatives
             are the analogs σ = ds/dq and κ = dσ/dq of a one-driver mechanism).
-        tol : closure tolerance (relative to :attr:`scale`) for iterated groups.
+        tol : closure tolerance (relative to :attr:`scale`) for iterated groups, at
+            least ``TOL_FLOOR`` (1e-15: a few rounding units of the size).
         """
+        if not TOL_FLOOR <= tol < 1:
+            raise MechanismError(
+                f"tol: must be in [{TOL_FLOOR:g}, 1) (relative to the mechanism's size), "
+                f"got {tol:g}"
+            )
         qa = self.driver_values(q)
         rate = np.ones(len(self.drivers)) if rates is None else np.asarray(rates, float)
         plan, geom = self.plan, self.geometry

@@ -34,8 +34,12 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.geometry import Geometry, read_geometry
@@ -47,6 +51,8 @@ from mjstruct.structure.assur import Decomposition, assur_groups
 from mjstruct.structure.drivers import validate_drivers
 
 __all__ = ["STEP_KINDS", "Plan", "Step", "plan_kinematics"]
+
+FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -238,6 +244,7 @@ def plan_kinematics(
         raise MechanismError("drivers: kinematics needs at least one driver joint")
     geom = geometry if geometry is not None else read_geometry(m, drv)
     assert m.frame is not None  # read_geometry checked it
+    _check_drivers(m, geom, drv)
     topo = Topology(m, drv)
     groups, source, dec_ref, _ = _groups_from(m, drv, decomposition)
     refs = [m.frame] if dec_ref is None else [dec_ref, m.frame]
@@ -301,14 +308,73 @@ def plan_kinematics(
     )
 
 
-def _jacobian_dof(m: Mechanism, geom: Geometry) -> int:
-    """Mobility from the rank of the constraint Jacobian at the reference configuration."""
-    import numpy as np
+def _check_drivers(m: Mechanism, geom: Geometry, drv: tuple[str, ...]) -> None:
+    """Refuse drivers that over- or under-drive the mechanism at its reference.
 
+    The generic count and independence (pebble game) first; where they refuse, the
+    geometry may still be special (a parallelogram whose redundant constraint the
+    pebble game cannot see): then the constraint Jacobian at the reference decides,
+    its mobility against the driver count, and each driver row against the rank of
+    the constraints and the drivers before it (a driver already fixed is refused).
+    """
+    try:
+        validate_drivers(m, drv)
+        return
+    except MechanismError as generic:
+        refusal = generic
+    J, D = _normalised_jacobian(m, geom, drv)
+    tol = PLAN_RANK_TOL * np.sqrt(J.shape[1])
+    rank = int(np.linalg.matrix_rank(J, tol=tol)) if J.size else 0
+    dof = J.shape[1] - rank
+    validate_drivers(m, drv, mobility=dof)  # the count against the real mobility
+    fixed = []
+    rows = J
+    for d, row in zip(drv, D, strict=True):
+        grown = np.vstack([rows, row[None, :]])
+        if int(np.linalg.matrix_rank(grown, tol=tol)) == rank:
+            fixed.append(d)
+        else:
+            rows, rank = grown, rank + 1
+    if fixed:
+        them = "them" if len(fixed) > 1 else "it"
+        raise MechanismError(
+            f"drivers: with {', '.join(drv)} the mechanism is over-constrained "
+            f"({', '.join(fixed)} already fixed by the structure and the drivers before "
+            f"{them} at the reference configuration; Jacobian mobility F = {dof})"
+        )
+    if dof != len(drv):  # pragma: no cover - validate_drivers with mobility refused it
+        raise refusal
+
+
+def _normalised_jacobian(
+    m: Mechanism, geom: Geometry, drivers: tuple[str, ...] = ()
+) -> tuple[FloatArray, FloatArray]:
+    """The constraint Jacobian and driver rows at the reference, in units of the size.
+
+    Positions are taken relative to the first joint and divided by the size, so the
+    rank does not depend on where the mechanism sits or what unit it is written in.
+    """
     from mjstruct.kinematics.jacobian import constraint_jacobian, reference_poses
 
-    J, _ = constraint_jacobian(m, geom, reference_poses(m))
-    return int(J.shape[2] - np.linalg.matrix_rank(J[0], tol=PLAN_RANK_TOL * max(1.0, geom.scale)))
+    o, k = next(iter(geom.centres.values())), 1.0 / geom.scale
+    unit = dataclasses.replace(
+        geom,
+        centres={j: (z - o) * k for j, z in geom.centres.items()},
+        points={p: (link, (z - o) * k) for p, (link, z) in geom.points.items()},
+        scale=1.0,
+    )
+    J, D = constraint_jacobian(m, unit, reference_poses(m), drivers)
+    # rows of unit length: the tolerance compares directions, not magnitudes
+    for A in (J, D):
+        norm = np.linalg.norm(A[0], axis=1, keepdims=True)
+        A[0] /= np.where(norm > 0, norm, 1.0)
+    return J[0], D[0]
+
+
+def _jacobian_dof(m: Mechanism, geom: Geometry) -> int:
+    """Mobility from the rank of the constraint Jacobian at the reference configuration."""
+    J, _ = _normalised_jacobian(m, geom)
+    return int(J.shape[1] - np.linalg.matrix_rank(J, tol=PLAN_RANK_TOL * np.sqrt(J.shape[1])))
 
 
 def _groups_from(

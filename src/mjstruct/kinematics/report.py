@@ -54,9 +54,11 @@ def render(r: KinematicsResult) -> str:
         out.append(f"check link lengths: max error {ch['link_lengths']['max_error']:.3g}")
     if "analogs_vs_differences" in ch:
         a = ch["analogs_vs_differences"]
+        # no q of the maximum: exact agreement, or no five consecutive valid frames
+        at = a["q_of_max_error"]
         out.append(
             f"check analogs vs five-point differences (step {a['step']:.3g}): max error "
-            f"{a['max_error']:.3g} at q = {a['q_of_max_error']:.6g} "
+            f"{a['max_error']:.3g}{'' if at is None else f' at q = {at:.6g}'} "
             f"(largest analog {a['max_analog']:.3g})"
         )
     if "jacobian" in ch:
@@ -68,8 +70,9 @@ def render(r: KinematicsResult) -> str:
             f"|det| with drivers fixed in [{_g(j['min_abs_det'])}, {_g(j['max_abs_det'])}], "
             f"near-singular frames {j['near_singular_frames'] or 'none'}"
         )
-    valid = int(r.valid.sum())
-    out.append(f"frames assembled: {valid}/{r.valid.size}")
+    placed, valid = int(r.placed.sum()), int(r.valid.sum())
+    singular = f" ({placed - valid} singular: positions only)" if placed != valid else ""
+    out.append(f"frames assembled: {placed}/{r.valid.size}{singular}")
     if r.warnings:
         out.append("warnings:")
         out += [f"  {w}" for w in r.warnings]

@@ -59,6 +59,14 @@ class KinematicsResult:
     checks: dict[str, Any]
     closure: Closure | None = None
     jacobian: JacobianCheck | None = field(default=None, repr=False)
+    #: frames whose positions exist (``valid`` ones, and singular frames where only the
+    #: velocities and accelerations are infinite); default: ``valid``
+    assembled: BoolArray | None = None
+
+    @property
+    def placed(self) -> BoolArray:
+        """Frames with positions: ``assembled`` (``valid`` when not given)."""
+        return self.valid if self.assembled is None else self.assembled
 
     @property
     def mechanism(self) -> Mechanism:
@@ -84,10 +92,12 @@ class KinematicsResult:
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (nulls where a frame does not assemble)."""
 
-        def lst(a: FloatArray) -> list[float | None]:
+        placed = self.placed
+
+        def lst(a: FloatArray, key: str) -> list[float | None]:
+            mask = placed if key in _POSITIONS else self.valid
             return [
-                float(x) if ok and np.isfinite(x) else None
-                for x, ok in zip(a, self.valid, strict=True)
+                float(x) if ok and np.isfinite(x) else None for x, ok in zip(a, mask, strict=True)
             ]
 
         keys_p = ("x", "y", "vx", "vy", "ax", "ay")
@@ -99,9 +109,9 @@ class KinematicsResult:
             "drivers": list(self.plan.drivers),
             "speed": self.speed,
             "q": q_out,
-            "joints": {j: {k: lst(v[k]) for k in keys_p} for j, v in self.joints.items()},
-            "links": {x: {k: lst(v[k]) for k in keys_l} for x, v in self.links.items()},
-            "points": {p: {k: lst(v[k]) for k in keys_p} for p, v in self.points.items()},
+            "joints": {j: {k: lst(v[k], k) for k in keys_p} for j, v in self.joints.items()},
+            "links": {x: {k: lst(v[k], k) for k in keys_l} for x, v in self.links.items()},
+            "points": {p: {k: lst(v[k], k) for k in keys_p} for p, v in self.points.items()},
             "warnings": list(self.warnings),
             "plan": {
                 "reference": self.plan.reference,
@@ -150,8 +160,15 @@ class KinematicsResult:
                 names.append(f"{link}.{k}")
                 cols.append(v[k])
         data = np.column_stack(cols)
-        data[~self.valid, self.q.shape[1] :] = np.nan
+        nq = self.q.shape[1]
+        position = np.array([n.rsplit(".", 1)[-1] in _POSITIONS for n in names[nq:]])
+        data[np.ix_(~self.placed, np.flatnonzero(position) + nq)] = np.nan
+        data[np.ix_(~self.valid, np.flatnonzero(~position) + nq)] = np.nan
         return names, data
+
+
+#: the table's position columns (given on every assembled frame, singular ones too)
+_POSITIONS = frozenset({"x", "y", "angle"})
 
 
 def collect(motion: Motion, speed: float) -> KinematicsResult:
@@ -167,6 +184,16 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     # every centre and point is a function of the link poses, whose finiteness the
     # motion's ``valid`` already holds; at unit speed velocities are the analogs
     valid = motion.valid.copy()
+    # a singular frame (a dead point of the drivers) has positions but infinite
+    # derivatives: it assembles, though it is not valid
+    # (a frame that breaks a redundant constraint has finite derivatives: not assembled)
+    pos_ok, der_ok = np.ones_like(valid), np.ones_like(valid)
+    for pose in ev.poses.values():
+        pos_ok &= np.isfinite(pose.r + pose.A[0])
+        der_ok &= np.isfinite(sum(pose.A[1:]) + sum(pose.w))
+    if motion.closure is not None:
+        pos_ok &= motion.closure.converged
+    assembled = valid | (pos_ok & ~der_ok)
 
     def scaled(a: FloatArray, k: float) -> FloatArray:
         return a if k == 1.0 else a * k
@@ -202,5 +229,16 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
             "kappa": p.w[1],
         }
     return KinematicsResult(
-        km, q, W, valid, joints, points, links, list(motion.events), [], {}, motion.closure
+        km,
+        q,
+        W,
+        valid,
+        joints,
+        points,
+        links,
+        list(motion.events),
+        [],
+        {},
+        motion.closure,
+        assembled=assembled,
     )

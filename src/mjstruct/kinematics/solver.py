@@ -28,6 +28,7 @@ import numpy.typing as npt
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.checks import run_checks
 from mjstruct.kinematics.evaluate import Evaluation
+from mjstruct.kinematics.memory import check_sweep_memory
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.planner import Plan
 from mjstruct.kinematics.result import KinematicsResult, collect
@@ -50,6 +51,7 @@ def kinematic_analysis(
     decomposition: Decomposition | None = None,
     tol: float = CLOSURE_TOL,
     checks: bool = True,
+    max_memory: int | None = None,
 ) -> KinematicsResult:
     """Positions, analogs, velocities and accelerations over a driver sweep.
 
@@ -66,6 +68,9 @@ def kinematic_analysis(
     decomposition : an Assur decomposition to plan on (only with a mechanism).
     tol : closure tolerance (relative to the mechanism's size) for iterated groups.
     checks : run the checks (link lengths, analogs vs differences, Jacobian).
+    max_memory : refuse sweeps whose estimated memory exceeds this many bytes
+        (default: ``MJSTRUCT_MAX_MEMORY_BYTES`` or 2 GiB; see
+        :mod:`mjstruct.kinematics.memory`).
     """
     if isinstance(model, KinematicModel):
         if drivers is not None or decomposition is not None:
@@ -77,12 +82,22 @@ def kinematic_analysis(
         km = KinematicModel.build(model, drivers, decomposition)
     if not np.isfinite(speed) or speed == 0:
         raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
-    qa = km.sweep(frames, speed, stroke) if q is None else km.driver_values(q)
+    if q is None:
+        if frames < 1:
+            raise MechanismError(f"frames: must be >= 1, got {frames}")
+        check_sweep_memory(km, frames, max_memory)
+        qa = km.sweep(frames, speed, stroke)
+    else:
+        qa = km.driver_values(q)
+        check_sweep_memory(km, qa.shape[0], max_memory)
+    if not np.isfinite(float(speed) * float(speed) * km.scale):
+        raise MechanismError(f"speed: {speed:g} overflows the accelerations (W² × size)")
     motion = km.motion(qa, order=2, tol=tol)
     # frames near a singular position may carry infinite analogs: they are not valid
     # (reported), and their arithmetic must not warn
     with np.errstate(all="ignore"):
         result = collect(motion, speed)
+    _check_overflow(result)
     warnings = list(motion.warnings)
     warnings += [e.message() for e in motion.events]
     warnings += _parallel_guides(km.plan, motion.evaluation, qa)
@@ -92,6 +107,26 @@ def kinematic_analysis(
         with np.errstate(all="ignore"):
             run_checks(result, motion)
     return result
+
+
+def _check_overflow(r: KinematicsResult) -> None:
+    """Refuse a speed whose velocities or accelerations overflow where the analogs do not."""
+    v = r.valid
+    for table in (r.joints, r.points):
+        for values in table.values():
+            for rate, analog in (("vx", "sx"), ("vy", "sy"), ("ax", "kx"), ("ay", "ky")):
+                _overflow(values[rate][v], values[analog][v], r.speed)
+    for values in r.links.values():
+        _overflow(values["omega"][v], values["sigma"][v], r.speed)
+        _overflow(values["eps"][v], values["kappa"][v], r.speed)
+
+
+def _overflow(rate: FloatArray, analog: FloatArray, speed: float) -> None:
+    if (~np.isfinite(rate) & np.isfinite(analog)).any():
+        raise MechanismError(
+            f"speed: {speed:g} overflows the velocities or accelerations (largest analog "
+            f"{float(np.abs(analog[np.isfinite(analog)]).max()):.3g})"
+        )
 
 
 def _parallel_guides(plan: Plan, ev: Evaluation, q: FloatArray) -> list[str]:
@@ -112,15 +147,16 @@ def _parallel_guides(plan: Plan, ev: Evaluation, q: FloatArray) -> list[str]:
 
 
 def _infeasible(r: KinematicsResult) -> list[str]:
-    """Runs of frames that do not assemble, with their q range."""
-    bad = np.concatenate([[False], ~r.valid, [False]])
-    starts = np.flatnonzero(bad[1:] & ~bad[:-1])
+    """Runs of frames that do not assemble, with their q range; singular frames."""
+    out = _runs(r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j}); values are null")
+    out += _runs(
+        r,
+        r.placed & ~r.valid,
+        "singular position for q in [{a}, {b}] (frames {i}..{j}): the drivers are at a dead "
+        "point, positions are given, velocities and accelerations are infinite (null)",
+    )
+    bad = np.concatenate([[False], ~r.placed, [False]])
     ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
-    out = [
-        f"no assembly for q in [{r.q[i, 0]:.9g}, {r.q[j, 0]:.9g}] (frames {i}..{j}); "
-        "values are null"
-        for i, j in zip(starts, ends, strict=True)
-    ]
     after = [int(j) + 1 for j in ends if j + 1 < r.valid.size]
     # only steps with an assembly mode (circle intersections, closures) can carry the
     # wrong branch across a gap; line-line dyads (PRP, RPP) have a single solution
@@ -132,3 +168,14 @@ def _infeasible(r: KinematicsResult) -> list[str]:
             "by continuation across the gap (same assembly modes), not a physical motion"
         )
     return out
+
+
+def _runs(r: KinematicsResult, mask: npt.NDArray[np.bool_], text: str) -> list[str]:
+    """``text`` for each run of frames in ``mask`` (``{a}``, ``{b}``: its q range)."""
+    edge = np.concatenate([[False], mask, [False]])
+    starts = np.flatnonzero(edge[1:] & ~edge[:-1])
+    ends = np.flatnonzero(~edge[1:] & edge[:-1]) - 1
+    return [
+        text.format(a=f"{r.q[i, 0]:.9g}", b=f"{r.q[j, 0]:.9g}", i=i, j=j)
+        for i, j in zip(starts, ends, strict=True)
+    ]

@@ -36,6 +36,9 @@ REDUNDANT_HOLDS = 1e-9
 
 #: default closure tolerance, relative to the mechanism's size
 CLOSURE_TOL = 1e-12
+#: smallest closure tolerance accepted: a few ulps of the size (double precision
+#: resolves 2.2e-16 of it); below, Newton cannot tell convergence from rounding
+TOL_FLOOR = 1e-15
 #: the closure's own default (Newton stops there; the model asks for CLOSURE_TOL)
 NEWTON_TOL = 1e-13
 #: a frame whose Newton iteration stalls (no longer halves its error) counts as closed
