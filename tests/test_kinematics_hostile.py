@@ -94,7 +94,7 @@ def test_accelerations_that_overflow_where_w2_does_not_are_refused():
     m = read_mechanism(example_path("scotch-yoke"))
     model = KinematicModel.build(m, ["G"])
     assert np.isfinite(4e153**2 * model.scale)
-    with pytest.raises(MechanismError, match="^speed: .* overflows the velocities or acc"):
+    with pytest.raises(MechanismError, match=r"^speed: .* overflows the velocities or acc"):
         kinematic_analysis(model, frames=8, speed=-4e153, stroke=0.2, checks=False)
     r = kinematic_analysis(model, frames=8, speed=-4e152, stroke=0.2, checks=False)
     assert np.isfinite(r.joints["A"]["ay"][1:]).all()
