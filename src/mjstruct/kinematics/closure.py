@@ -4,9 +4,13 @@ Owns the iteration for groups of class III and higher: assume the angle of one l
 (the planner picks the fewest such unknowns), solve the class-II steps that follow,
 and drive the closure equations (a computed length against the given one) to zero.
 Newton runs on all frames at once with per-frame convergence masks; its Jacobian is
-analytic (the same jet propagation as the analogs, seeded on the unknowns). Initial
-values come from continuation along the frames starting at the reference configuration
-(where every unknown is 0, the rotation from the reference).
+analytic (the same jet propagation as the analogs, seeded on the unknowns; the seeds
+are stacked along the frames, so one iteration is one evaluation of the steps the
+closure reads).  Initial values come from continuation along the path starting at the
+reference configuration (where every unknown is 0, the rotation from the reference):
+stations not tied to the frames, solved in blocks by the same vectorised Newton, then
+a cubic Hermite prediction on every frame.  The number of evaluations depends on the
+path's length and curvature, not on the number of frames.
 
 Afterwards the unknowns' derivatives follow from the differentiated closure
 equations, ``R_t t' = -R_q`` and ``R_t t'' = -R''``, so σ and κ stay exact.
@@ -47,6 +51,12 @@ if TYPE_CHECKING:
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 
+#: continuation stations solved together at most (one evaluation per Newton round);
+#: 1 is the one-station-at-a-time continuation
+MAX_BLOCK = 8
+#: evaluation rounds for a block of stations; a station still open is left to the next
+BLOCK_ROUNDS = 5
+
 
 @dataclass(frozen=True)
 class Closure:
@@ -70,23 +80,76 @@ class Closure:
     jumps: tuple[int, ...] = ()
 
 
+def closing_steps(model: KinematicModel) -> tuple[int, ...] | None:
+    """Steps the closure equations read (in plan order), or None when that is every step.
+
+    Newton and the derivatives of the unknowns evaluate only these: a group placed
+    after the closure, that no closure equation reads, is left out.
+    """
+    steps = model.plan.steps
+    need: set[int] = set()
+    for k, s in enumerate(steps):
+        if s.equations:
+            need.update(model.step_dependencies[k])
+    return None if len(need) == len(steps) else tuple(sorted(need))
+
+
+def _tile_modes(K: Modes | None, n: int) -> Modes | None:
+    if K is None or n == 1:
+        return K
+    return {k: (np.tile(v, n) if isinstance(v, np.ndarray) else v) for k, v in K.items()}
+
+
+def closure_jets(
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    K: Modes | None = None,
+    rates: FloatArray | None = None,
+    only: tuple[int, ...] | None = None,
+) -> tuple[FloatArray, FloatArray, FloatArray | None]:
+    """R (F, e), dR/dt (F, e, k) and, given ``rates``, dR/dτ at fixed t: one evaluation.
+
+    The seeds are stacked along the frames (one block per unknown, and one with
+    t' = 0 when ``rates`` is given), so a Newton iteration or a tangent costs one call
+    of :func:`~mjstruct.kinematics.evaluate.evaluate` whatever the number of unknowns.
+    With ``rates`` the Jacobian is the difference of two blocks (rounding of the
+    larger one); without, each block is a column exactly.
+    """
+    F, k = t.shape
+    lead = 0 if rates is None else 1
+    n = k + lead
+    seeds = np.zeros((n, F, k))
+    for j in range(k):
+        seeds[lead + j, :, j] = 1.0
+    if n == 1:
+        qs, ts = q, t
+    else:
+        qs = np.broadcast_to(q, (n, *q.shape)).reshape(n * F, q.shape[1])
+        ts = np.broadcast_to(t, (n, F, k)).reshape(n * F, k)
+    ev = evaluate(
+        model,
+        qs,
+        order=1,
+        rates=np.zeros(q.shape[1]) if rates is None else rates,
+        t=ts,
+        t1=seeds.reshape(n * F, k),
+        K=_tile_modes(K, n),
+        only=only,
+    )
+    R = ev.residual_matrix(0)[:F]
+    R1 = ev.residual_matrix(1).reshape(n, F, -1)
+    if rates is None:
+        return R, np.moveaxis(R1, 0, -1), None
+    return R, np.moveaxis(R1[1:] - R1[0], 0, -1), R1[0]
+
+
 def closure_jacobian(
     model: KinematicModel, q: FloatArray, t: FloatArray, K: Modes | None = None
 ) -> tuple[FloatArray, FloatArray]:
     """Residuals R (F, e) and the analytic Jacobian dR/dt (F, e, k) at unknowns ``t``."""
-    F, k = t.shape
-    cols = []
-    R = None
-    zero = np.zeros(q.shape[1])
-    for j in range(k):
-        seed = np.zeros((F, k))
-        seed[:, j] = 1.0
-        ev = evaluate(model, q, order=1, rates=zero, t=t, t1=seed, K=K)
-        if R is None:
-            R = ev.residual_matrix(0)
-        cols.append(ev.residual_matrix(1))
-    assert R is not None
-    return R, np.stack(cols, axis=-1)
+    R, J, _ = closure_jets(model, q, t, K, only=closing_steps(model))
+    return R, J
 
 
 def _solve(J: FloatArray, b: FloatArray) -> FloatArray:
@@ -109,6 +172,15 @@ def _solve(J: FloatArray, b: FloatArray) -> FloatArray:
     return out
 
 
+def _newton_step(J: FloatArray, R: FloatArray) -> FloatArray:
+    """Newton step -J⁻¹R, non-finite parts zeroed, at most half a radian."""
+    step = -_solve(J, R)
+    step = np.where(np.isfinite(step), step, 0.0)
+    big = np.abs(step).max(axis=1, keepdims=True)
+    out: FloatArray = step * np.minimum(1.0, 0.5 / np.maximum(big, 1e-300))
+    return out
+
+
 def newton(
     model: KinematicModel,
     q: FloatArray,
@@ -122,45 +194,126 @@ def newton(
     A frame converges when its closure error (max |R| / scale) is at most ``tol``, or
     when an iteration no longer halves it while it is within :data:`STALL_ERROR` times
     ``tol``: the rounding floor of a long chain of ill-conditioned groups (the error
-    achieved is what is reported).
+    achieved is what is reported).  ``iterations`` counts the evaluations over the
+    frames still iterating (a step halved where it would not assemble or would more
+    than double the error is one more).
     """
-    t = t0.copy()
-    F = t.shape[0]
+    t, err, rounds, ok, _ = _newton(model, q, t0, K, tol, maxiter, closing_steps(model))
+    return t, err, rounds, ok
+
+
+def _newton(
+    model: KinematicModel,
+    q: FloatArray,
+    t0: FloatArray,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+    only: tuple[int, ...] | None,
+    rates: FloatArray | None = None,
+    max_rounds: int | None = None,
+) -> tuple[FloatArray, FloatArray, int, BoolArray, FloatArray]:
+    """:func:`newton`, also returning dR/dt at the final t (with ``rates``: dt/dτ).
+
+    One evaluation per round gives the residual at the trial point and its Jacobian:
+    the line search is the next round (a trial that does not assemble, or more than
+    doubles max |R|, is halved back toward the last accepted point, at most 8 times).
+    ``max_rounds`` stops every frame after that many rounds (open frames not converged).
+    """
+    F = t0.shape[0]
+    scale = model.geometry.scale
+    t, base = t0.copy(), t0.copy()
+    step = np.zeros_like(t0)
+    alpha = np.ones(F)
+    halved = np.zeros(F, np.int64)
+    evals = np.zeros(F, np.int64)
+    rbase = np.full(F, np.inf)
     err = np.full(F, np.inf)
     active = np.ones(F, bool)
-    scale = model.geometry.scale
-    it = 0
-    for it in range(1, maxiter + 1):  # noqa: B007 - the count is reported
+    ok = np.zeros(F, bool)
+    last: FloatArray | None = None  # dR/dt (or dt/dτ) at each frame's final point
+    rounds = 0
+    while active.any() and (max_rounds is None or rounds < max_rounds):
+        rounds += 1
         idx = np.flatnonzero(active)
-        Ki = _subset_modes(K, idx)
-        R, J = closure_jacobian(model, q[idx], t[idx], Ki)
-        e = np.abs(R).max(axis=1) / scale
-        stalled = e >= 0.5 * err[idx]
-        err[idx] = e
+        R, J, Rd = closure_jets(model, q[idx], t[idx], _subset_modes(K, idx), rates, only)
+        rmax = np.abs(R).max(axis=1)
+        finite = np.isfinite(R).all(axis=1)
+        bad = (~finite | (rmax > 2.0 * rbase[idx] + 1e-300)) & (halved[idx] < 8)
+        bad &= evals[idx] > 0
+        b = idx[bad]
+        alpha[b] *= 0.5
+        halved[b] += 1
+        t[b] = base[b] + alpha[b, None] * step[b]
+        good = ~bad
+        ia, R, J, e = idx[good], R[good], J[good], rmax[good] / scale
+        stalled = e >= 0.5 * err[ia]
+        err[ia] = e
+        base[ia] = t[ia]
+        rbase[ia] = rmax[good]
+        evals[ia] += 1
+        if last is None:
+            last = np.full((F, *(J.shape[1:] if rates is None else (J.shape[2],))), np.nan)
+        last[ia] = J if rates is None or Rd is None else -_solve(J, Rd[good])
         done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
-        active[idx[done]] = False
-        idx, R, J = idx[~done], R[~done], J[~done]
-        if idx.size == 0:
-            break
-        step = -_solve(J, R)
-        step = np.where(np.isfinite(step), step, 0.0)
-        # damp: at most half a radian per iteration, and back off where a dyad fails
-        big = np.abs(step).max(axis=1, keepdims=True)
-        step *= np.minimum(1.0, 0.5 / np.maximum(big, 1e-300))
-        alpha = np.ones(idx.size)
-        for _ in range(8):
-            trial = t[idx] + alpha[:, None] * step
-            ev = evaluate(model, q[idx], order=0, t=trial, K=_subset_modes(K, idx))
-            Rn = ev.residual_matrix(0)
-            bad = ~np.isfinite(Rn).all(axis=1) | (
-                np.abs(Rn).max(axis=1) > 2.0 * np.abs(R).max(axis=1) + 1e-300
-            )
-            if not bad.any():
-                break
-            alpha[bad] *= 0.5
-        t[idx] += alpha[:, None] * step
-    ok = ~active | (err <= tol)
-    return t, err, it, ok
+        ok[ia[done]] = True
+        spent = ~done & (evals[ia] >= maxiter)
+        active[ia[done | spent]] = False
+        go = ~done & ~spent
+        ig = ia[go]
+        if ig.size:
+            step[ig] = _newton_step(J[go], R[go])
+            alpha[ig], halved[ig] = 1.0, 0
+            t[ig] = base[ig] + step[ig]
+    assert last is not None
+    return base, err, rounds, ok | (err <= tol), last
+
+
+def _station(
+    model: KinematicModel,
+    q: FloatArray,
+    guess: FloatArray,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+    only: tuple[int, ...] | None,
+    dirn: FloatArray,
+) -> tuple[FloatArray, FloatArray | None]:
+    """Newton at one continuation station: the unknowns and their tangent along ``dirn``.
+
+    :func:`_newton` for one frame without the per-frame bookkeeping (stations are
+    many small calls): one evaluation per iteration gives R, dR/dt and dR/dτ, so the
+    tangent at the converged point costs nothing more.  None: it did not close.
+    """
+    scale = model.geometry.scale
+    q1 = q[None, :]
+    t = guess.copy()
+    base, step = t, np.zeros_like(t)
+    alpha, halved, evals = 1.0, 0, 0
+    rbase = err = np.inf
+    while True:
+        R, J, Rd = closure_jets(model, q1, t[None, :], K, dirn, only)
+        r = R[0]
+        rmax = float(np.abs(r).max())
+        finite = bool(np.isfinite(r).all())
+        if evals and halved < 8 and (not finite or rmax > 2.0 * rbase + 1e-300):
+            alpha *= 0.5
+            halved += 1
+            t = base + alpha * step
+            continue
+        evals += 1
+        e = rmax / scale if finite else np.nan
+        stalled = e >= 0.5 * err
+        err = e
+        if e <= tol or (stalled and e <= STALL_ERROR * tol):
+            assert Rd is not None
+            return t, -_solve(J, Rd)[0]
+        if evals >= maxiter:
+            return t, None
+        base, rbase = t, rmax
+        step = _newton_step(J, R)[0]
+        alpha, halved = 1.0, 0
+        t = base + step
 
 
 def _subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:
@@ -182,10 +335,15 @@ def close(
     The frames are taken as a path: continuation runs from the reference configuration
     to frame 0, then along the frames (stations at most :data:`STATION_STEP` apart,
     cubic Hermite prediction in between), and one vectorised Newton polishes all frames.
+    Each Newton iteration, at a station or over all frames, is one evaluation of the
+    steps the closure reads (:func:`closing_steps`); a station's last one also gives its
+    tangent, so the number of evaluations depends on the path's length and curvature,
+    not on the number of frames.
     """
     F, k = q.shape[0], model.plan.unknowns
     q_ref = model.q_ref
     rate = np.ones(q.shape[1]) if rates is None else np.asarray(rates, float)
+    only = closing_steps(model)
     # 1. continuation along the path reference -> frame 0 -> ... -> last frame, by arc
     # length in q, with stations not tied to the frames; the step halves until each
     # station agrees with the trapezoid of the tangent (no hop to another root)
@@ -210,31 +368,92 @@ def close(
     def frame_at(sv: float) -> int:
         return int(np.clip(np.searchsorted(arc, sv, side="right") - 2, 0, F - 1))
 
+    def station(
+        sv: float, guess: FloatArray, dirn: FloatArray
+    ) -> tuple[FloatArray, FloatArray | None]:
+        Ks = _subset_modes(K, np.array([frame_at(sv)]))
+        return _station(model, q_at(sv), guess, Ks, tight, maxiter, only, dirn)
+
     T_last = np.zeros(k)
-    K0 = _subset_modes(K, np.array([0]))
-    D0 = _tangent(model, q_ref[None, :], T_last[None, :], K0, direction(0.0))[0]
-    S, TT, DD = [0.0], [T_last], [np.where(np.isfinite(D0), D0, 0.0)]
+    dir0 = direction(0.0)
+    _, D0 = station(0.0, T_last, dir0)
+    S, TT = [0.0], [T_last]
+    DD = [np.zeros(k) if D0 is None else np.where(np.isfinite(D0), D0, 0.0)]
     s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
     lost = False  # True while the stations do not close (outside the feasible range)
+    block = min(4, MAX_BLOCK)  # stations solved together (doubles while all pass)
     for _ in range(20000):
         if s_last >= total:
             break
+        if block > 1 and not lost and s_last + step < total:
+            # 2a. a block of stations at the current step, Newton on all at once from a
+            # quadratic prediction; the stations are then taken in order while each
+            # agrees with the trapezoid of the tangent, exactly as one at a time
+            sv = np.minimum(s_last + step * np.arange(1, block + 1), total)
+            sv = sv[: int(np.searchsorted(sv, total)) + 1]
+            dirs = np.array([direction(x) for x in sv])
+            if (dirs == dirs[0]).all():
+                dl = (sv - s_last)[:, None]
+                curv = (DD[-1] - DD[-2]) / (S[-1] - S[-2]) if len(S) > 1 else 0.0 * T_last
+                Kb = _subset_modes(K, np.array([frame_at(x) for x in sv]))
+                tb, _, _, okb, Db = _newton(
+                    model,
+                    np.array([q_at(x) for x in sv]),
+                    T_last + dl * DD[-1] + 0.5 * dl**2 * curv,
+                    Kb,
+                    tight,
+                    maxiter,
+                    only,
+                    dirs[0],
+                    BLOCK_ROUNDS,
+                )
+                taken = 0
+                for i in range(sv.size):
+                    ds = sv[i] - s_last
+                    pred = 0.5 * (DD[-1] + Db[i]) * ds
+                    if not (
+                        okb[i]
+                        and np.abs(tb[i] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
+                    ):
+                        break
+                    T_last, s_last = tb[i], float(sv[i])
+                    S.append(s_last)
+                    TT.append(T_last)
+                    DD.append(np.where(np.isfinite(Db[i]), Db[i], 0.0))
+                    taken += 1
+                if taken == sv.size:
+                    block = min(2 * block, MAX_BLOCK)
+                    step = min(2.0 * step, STATION_STEP)
+                else:
+                    block = min(max(2, taken), MAX_BLOCK)
+                if taken:
+                    continue
+                if okb[0] and step > 1e-4:  # closed but too far along a curved path
+                    step *= 0.5
+                    continue
+        # 2b. one station (after a rejected block, near trouble, or at a reduced step)
         s_new = min(s_last + step, total)
-        Ks = _subset_modes(K, np.array([frame_at(s_new)]))
-        qn = q_at(s_new)[None, :]
         ds = s_new - s_last
-        guess = (T_last + DD[-1] * ds)[None, :]
-        tn, _, _, okn = newton(model, qn, guess, Ks, tight, maxiter)
-        Dn = None
-        if okn[0]:
-            Dn = _tangent(model, qn, tn, Ks, direction(s_new))[0]
+        if len(S) > 1:  # cubic through the last two stations, extrapolated
+            h = S[-1] - S[-2]
+            u = (s_new - S[-2]) / h
+            guess = (
+                (2 * u**3 - 3 * u**2 + 1) * TT[-2]
+                + (u**3 - 2 * u**2 + u) * h * DD[-2]
+                + (-2 * u**3 + 3 * u**2) * TT[-1]
+                + (u**3 - u**2) * h * DD[-1]
+            )
+        else:
+            guess = T_last + DD[-1] * ds
+        tn, Dn = station(s_new, guess, direction(s_new))
+        if Dn is not None:
             pred = 0.5 * (DD[-1] + Dn) * ds
-            fine = np.abs(tn[0] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
+            fine = np.abs(tn - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
         else:
             fine = False
-        if fine or step <= 1e-4 or (lost and not okn[0]):
-            if okn[0] and Dn is not None:
-                T_last = tn[0]
+        if fine or step <= 1e-4 or (lost and Dn is None):
+            if Dn is not None:
+                T_last = tn
                 S.append(s_new)
                 TT.append(T_last)
                 DD.append(np.where(np.isfinite(Dn), Dn, 0.0))
@@ -250,13 +469,20 @@ def close(
             step *= 0.5
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
     guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc[1:])
-    t, err, iters, ok = newton(model, q, guess, K, tol, maxiter)
+    t, err, iters, ok, J = _newton(model, q, guess, K, tol, maxiter, only)
     if not ok.all() and ok.any():
-        _repair(model, q, t, err, ok, K, tol, maxiter)
-    t1, t2 = derivatives(model, q, t, rate, K)
-    d0 = _tangent(model, q_ref[None, :], np.zeros((1, k)), _subset_modes(K, np.array([0])), rate)[
-        0
-    ]
+        fixed = _repair(model, q, t, err, ok, K, tol, maxiter)
+        if fixed.size:
+            J[fixed] = closure_jets(
+                model, q[fixed], t[fixed], _subset_modes(K, fixed), None, only
+            )[1]
+    t1, t2 = _derivatives(model, q, t, rate, K, J, only)
+    if q.shape[1] == 1 and D0 is not None and dir0[0] != 0:
+        d0 = D0 * (rate[0] / dir0[0])  # the tangent is linear in the driver rates
+    else:
+        d0 = _tangent(
+            model, q_ref[None, :], np.zeros((1, k)), _subset_modes(K, np.array([0])), rate
+        )[0]
     jumps = branch_jumps(q, q_ref, t, t1, d0, ok, rate)
     return Closure(t, t1, t2, err, iters, ok, tol, jumps)
 
@@ -305,13 +531,15 @@ def _repair(
     K: Modes | None,
     tol: float,
     maxiter: int,
-) -> None:
+) -> npt.NDArray[np.intp]:
     """Frames the vectorised pass missed: walk to each from a closed neighbour.
 
     Sequential, but only over the failed frames (near singular stretches where the
     interpolated guess is poor); substeps halve until Newton follows the branch.
+    Returns the frames it closed.
     """
     F = q.shape[0]
+    fixed: list[int] = []
     for order in (range(1, F), range(F - 2, -1, -1)):
         for i in order:
             j = i - 1 if order.step == 1 else i + 1
@@ -330,7 +558,9 @@ def _repair(
                     cur = tn[0]
                 if good:
                     t[i], err[i], ok[i] = cur, en[0], True
+                    fixed.append(i)
                     break
+    return np.array(fixed, dtype=np.intp)
 
 
 def _tangent(
@@ -341,9 +571,9 @@ def _tangent(
     rate: FloatArray,
 ) -> FloatArray:
     """dt/dτ for dq/dτ = rate, from the differentiated closure equations."""
-    _, J = closure_jacobian(model, q, t, K)
-    ev = evaluate(model, q, order=1, rates=rate, t=t, K=K)
-    return -_solve(J, ev.residual_matrix(1))
+    _, J, Rd = closure_jets(model, q, t, K, rate, closing_steps(model))
+    assert Rd is not None
+    return -_solve(J, Rd)
 
 
 def derivatives(
@@ -354,10 +584,24 @@ def derivatives(
     K: Modes | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """t' and t'' along the path: ``R_t t' = -R_q q'`` then ``R_t t'' = -R''|_{t''=0}``."""
-    _, J = closure_jacobian(model, q, t, K)
-    ev = evaluate(model, q, order=1, rates=rate, t=t, K=K)
+    only = closing_steps(model)
+    _, J, _ = closure_jets(model, q, t, K, None, only)
+    return _derivatives(model, q, t, rate, K, J, only)
+
+
+def _derivatives(
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    rate: FloatArray,
+    K: Modes | None,
+    J: FloatArray,
+    only: tuple[int, ...] | None,
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`derivatives` given the Jacobian dR/dt at ``t``."""
+    ev = evaluate(model, q, order=1, rates=rate, t=t, K=K, only=only)
     t1 = -_solve(J, ev.residual_matrix(1))
-    ev = evaluate(model, q, order=2, rates=rate, t=t, t1=t1, K=K)
+    ev = evaluate(model, q, order=2, rates=rate, t=t, t1=t1, K=K, only=only)
     t2 = -_solve(J, ev.residual_matrix(2))
     return t1, t2
 
