@@ -1,11 +1,14 @@
 """Error against run time of the kinematics plug-in: one table, one log-log plot.
 
-1. Iterative closure (seed 003 class-IV mechanism, 3600 frames): Newton tolerance ->
-   achieved closure error (max | |DE| - l_DE |, metres) and time.
-2. Frame counts 36 ... 36 000 (seed 001 slider-crank, closed form known): time of the
-   analysis, error of the exact analog velocities and of central finite differences of
-   the positions, both against the closed form (m/s, ω = 0.5 rad/s); and for seed 003
-   (no closed form) the gap between analogs and finite differences.
+1. Iterative closure (the class-IV mechanism of [Zinchenko], 3600 frames): Newton
+   tolerance -> achieved closure error (max | |DE| - l_DE |, metres) and time.
+2. Frame counts 36 ... 36 000 (the slider-crank of [Slider-crank Mathcad], closed form
+   known): time of the analysis, error of the exact analog velocities and of central
+   finite differences of the positions, both against the closed form (m/s,
+   ω = 0.5 rad/s); and for [Zinchenko] (no closed form) the gap between analogs and
+   finite differences.
+
+The keys in brackets are those of docs/references.md.
 
 Run: ``python benchmarks/error_vs_time.py [--plot docs/img/kin-error-vs-time.png]``.
 """
@@ -43,7 +46,7 @@ def main() -> None:
     rows = []
     # 1. closure tolerance -> achieved error and time
     m4 = read_mechanism(example_path("class-iv-seed003"))
-    print("closure (seed 003, 3600 frames): tolerance -> achieved error, time")
+    print("closure ([Zinchenko] class IV, 3600 frames): tolerance -> achieved error, time")
     print(f"{'tol':>8} {'error |DE|-l (m)':>18} {'iterations':>10} {'time (s)':>9}")
     clos = []
     for tol in (1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14):
@@ -61,10 +64,13 @@ def main() -> None:
     # 2. frame counts: analogs vs finite differences
     m1 = read_mechanism(example_path("slider-crank"))
     w = 0.5
-    print("\nslider-crank (seed 001): frames -> time, velocity error vs closed form (m/s)")
+    print(
+        "\nslider-crank ([Slider-crank Mathcad]): frames -> time, "
+        "velocity error vs closed form (m/s)"
+    )
     print(
         f"{'frames':>7} {'time (s)':>9} {'analog err':>11} {'FD err':>11} "
-        f"{'seed003 FD-analog':>18}"
+        f"{'[Zinchenko] FD-analog':>22}"
     )
     ana, fdp = [], []
     for n in (36, 360, 3600, 36000):
@@ -81,7 +87,7 @@ def main() -> None:
             X = r4.joints[j]["x"] + 1j * r4.joints[j]["y"]
             V = r4.joints[j]["vx"] + 1j * r4.joints[j]["vy"]
             gap = max(gap, float(np.abs(fd_velocity(X, dt4) - V).max()))
-        print(f"{n:7d} {t:9.4f} {e_an:11.2e} {e_fd:11.2e} {gap:18.2e}")
+        print(f"{n:7d} {t:9.4f} {e_an:11.2e} {e_fd:11.2e} {gap:22.2e}")
         ana.append((t, max(e_an, 1e-17)))
         fdp.append((t, e_fd))
         rows.append(("frames", n, t, e_an, e_fd, gap))
@@ -94,11 +100,13 @@ def main() -> None:
 
         fig, ax = plt.subplots(figsize=(6.4, 4.4))
         ct, ce = zip(*clos, strict=True)
-        ax.loglog(ct, ce, "o-", label="seed 003 closure: Newton tol 1e-2 … 1e-14")
+        ax.loglog(ct, ce, "o-", label="[Zinchenko] closure: Newton tol 1e-2 … 1e-14")
         at, ae = zip(*ana, strict=True)
-        ax.loglog(at, ae, "s-", label="seed 001 analog velocity (exact) vs closed form")
+        ax.loglog(
+            at, ae, "s-", label="[Slider-crank Mathcad] analog velocity (exact) vs closed form"
+        )
         ft, fe = zip(*fdp, strict=True)
-        ax.loglog(ft, fe, "^-", label="seed 001 finite differences vs closed form")
+        ax.loglog(ft, fe, "^-", label="[Slider-crank Mathcad] finite differences vs closed form")
         for (t, e), n in zip(fdp, (36, 360, 3600, 36000), strict=True):
             ax.annotate(f"{n}", (t, e), textcoords="offset points", xytext=(4, 4), fontsize=8)
         ax.set_xlabel("run time (s)")

@@ -7,6 +7,12 @@ direction ``axis`` of each prismatic joint, points of interest, and the
 link's first to its second joint centre; a slider uses its guide; the frame is the
 x axis).  Positions are complex numbers ``x + iy`` throughout the plug-in.
 
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.io import mechanism_from_dict

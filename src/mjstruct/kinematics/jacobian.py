@@ -8,6 +8,12 @@ obtained by fixing the drivers (J with one row per driver coordinate appended, w
 equals the driver-removed Jacobian's determinant up to sign).  The determinant
 vanishes at singular configurations (slider-crank: L2 cos φ_rod).
 
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
+
 Examples
 --------
 >>> import numpy as np

@@ -21,6 +21,12 @@ triangles across the placed cluster. When the Assur decomposition is given the
 propagation runs group by group in its order, and the decomposition's ``reference``
 link is used; the same step kinds result either way.
 
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.io import read_mechanism

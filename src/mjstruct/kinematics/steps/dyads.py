@@ -6,6 +6,12 @@ over all frames (the triangle solvers of :mod:`mjstruct.kinematics.triangles`, e
 its triangle count (RRR: one general triangle; RRP and RPR: one right triangle, plus
 the triangles that find the dyad's base side across the placed cluster).
 
+References
+----------
+.. [1] A. N. Panasenko, "Practical implementation…" (in Russian; the available copy
+   gives only this beginning of the title), Systems. Methods. Technologies,
+   no. 2 (66), pp. 32–42, 2025. [Panasenko 2025] in docs/references.md.
+
 Examples
 --------
 >>> from mjstruct.kinematics.steps.base import Step
