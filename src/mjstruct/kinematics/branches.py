@@ -74,9 +74,14 @@ class BranchEvent:
             "dead point": "limit of the feasible range",
             "singular frame": "the dyad is undefined here",
         }[self.kind]
+        # a switched mode at a change point keeps the motion smooth: the same branch
+        stays = (
+            "; the sweep continues on the branch it was on" if self.kind == "change point" else ""
+        )
         return (
             f"{self.kind} at q = {self.q:.9g} (frame {self.frame}, step {self.step + 1}, "
-            f"joint {self.joint}): {what}, |sin| = {self.sine:.3g}; assembly mode {self.action}"
+            f"joint {self.joint}): {what}, |sin| = {self.sine:.3g}; assembly mode "
+            f"{self.action}{stays}"
         )
 
 

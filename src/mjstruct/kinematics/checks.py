@@ -19,6 +19,8 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import numpy.typing as npt
 
@@ -177,6 +179,10 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
         if usable.any()
         else np.zeros(0, int)
     )
+    # frames whose positions exist but whose analogs do not: the driver-fixed Jacobian
+    # is singular there (|det| = 0), the deepest of near-singular frames
+    flagged = np.union1d(flagged, np.flatnonzero(r.placed & ~v)).astype(int)
+    kinds = _kinds(r, flagged) if len(flagged) else []
     with np.errstate(over="ignore", under="ignore"):
         lo = float(np.exp(logd[usable].min())) if usable.any() else float("nan")
         top = float(np.exp(top_log))
@@ -192,17 +198,63 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
         "max_abs_det": top if np.isfinite(top) and usable.any() else None,
         "det_from_plan_error": jc.factor_error,
         "near_singular_frames": [int(i) for i in flagged],
+        "near_singular_kinds": kinds,
     }
     if len(flagged):
         r.warnings.append(
             f"near-singular Jacobian (|det| < {NEAR_SINGULAR:g} of its maximum) at "
             f"{len(flagged)} frame(s), first q = {r.q[flagged[0], 0]:.9g}"
+            + _kinds_text(r, flagged, kinds)
         )
     if ranks and max(ranks) < jc.equations:
         r.warnings.append(
             f"constraint Jacobian rank {max(ranks)} < {jc.equations} equations: "
             f"{jc.equations - max(ranks)} redundant constraint(s)"
         )
+
+
+#: the words for the kinds of singular position in the warnings
+KIND_WORDS = {
+    "input_limit": "input limit",
+    "output_extreme": "output extreme",
+    "change_point": "change point",
+}
+
+
+def _kinds(r: KinematicsResult, frames: npt.NDArray[np.intp]) -> list[str | None]:
+    """Kind of the singular position at each flagged frame (None: not identified).
+
+    From :func:`~mjstruct.kinematics.singular.singular_analysis` (one driver, F = 1;
+    its positions are located to 1e-9 in q) within one frame step of each frame; run
+    only when frames are flagged (it traces the whole curve).
+    """
+    from mjstruct.errors import MechanismError, NumericalError
+    from mjstruct.kinematics.singular import classify_singular_frames, singular_analysis
+
+    none: list[str | None] = [None] * len(frames)
+    drivers = r.plan.drivers
+    if len(drivers) != 1:
+        return none
+    m = r.mechanism
+    if tuple(m.drivers) != drivers:
+        m = dataclasses.replace(m, drivers=drivers)
+    try:
+        a = singular_analysis(m)
+    except (MechanismError, NumericalError):
+        return none
+    q = r.q[:, 0]
+    step = float(np.abs(np.diff(q)).max()) if q.size > 1 else 2 * np.pi
+    return classify_singular_frames(a, q[frames], tol=step)
+
+
+def _kinds_text(r: KinematicsResult, frames: npt.NDArray[np.intp], kinds: list[str | None]) -> str:
+    """The kinds of the flagged frames in words (the first few), or nothing."""
+    named = [(int(i), k) for i, k in zip(frames, kinds, strict=True) if k is not None]
+    if not named:
+        return ""
+    words = [f"{KIND_WORDS[k]} at q = {r.q[i, 0]:.9g} (frame {i})" for i, k in named[:4]]
+    more = f", and {len(named) - 4} more" if len(named) > 4 else ""
+    return ": " + "; ".join(words) + more
 
 
 #: a link with at most this many centres and points has every pair checked

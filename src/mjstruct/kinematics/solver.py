@@ -152,8 +152,8 @@ def _infeasible(r: KinematicsResult) -> list[str]:
     out += _runs(
         r,
         r.placed & ~r.valid,
-        "singular position for q in [{a}, {b}] (frames {i}..{j}): the drivers are at a dead "
-        "point, positions are given, velocities and accelerations are infinite (null)",
+        "singular position for q in [{a}, {b}] (frames {i}..{j}): the Jacobian with the drivers "
+        "fixed is singular; positions are given, velocities and accelerations are not (null)",
     )
     bad = np.concatenate([[False], ~r.placed, [False]])
     ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
