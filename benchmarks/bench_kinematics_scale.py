@@ -7,7 +7,9 @@ default ``kinematic_analysis`` (checks on) and the one with ``checks=False`` at 
 frames.  Prints medians, time per link, the log-log slope between consecutive sizes
 and the peak RSS.
 
-Run: ``python benchmarks/bench_kinematics_scale.py [--frames N] [--sizes 4,18,...]``.
+Run: ``python benchmarks/bench_kinematics_scale.py [--frames N] [--sizes 4,18,...]
+[--plot docs/img/kin-scaling.png]``; ``--plot`` draws time and peak memory against
+the number of links on log-log axes.
 """
 
 from __future__ import annotations
@@ -74,6 +76,7 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=3600)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--sizes", default=",".join(str(s) for s in SIZES))
+    ap.add_argument("--plot", help="write a log-log plot of time and peak memory (PNG)")
     ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
@@ -88,6 +91,7 @@ def main() -> None:
         f"{'checks us/link':>15} {'slope':>6} {'peak MB':>8} {'valid':>6} {'det err':>8}"
     )
     prev = None
+    rows = []
     for n in (int(s) for s in args.sizes.split(",")):
         cmd = [sys.executable, __file__, "--child", str(n), "--frames", str(args.frames)]
         cmd += ["--repeat", str(args.repeat)]
@@ -103,6 +107,38 @@ def main() -> None:
             f"{slope:6.2f} {got['rss_mb']:8.0f} {got['valid']:6.2f} {got['factor_error']:8.1e}"
         )
         prev = got
+        rows.append(got)
+    if args.plot:
+        plot(rows, args.frames, args.plot)
+
+
+def plot(rows: list[dict[str, float]], frames: int, path: str) -> None:
+    """Time (plan, analysis with and without checks) and peak memory against size."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = [r["links"] for r in rows]
+    fig, (ax, am) = plt.subplots(1, 2, figsize=(9, 3.6))
+    for key, label in (
+        ("checks", "default (checks)"),
+        ("no_checks", "checks off"),
+        ("plan", "plan"),
+    ):
+        ax.loglog(n, [r[key] for r in rows], "o-", label=label)
+    ax.loglog(n, [rows[0]["checks"] * x / n[0] for x in n], "k:", lw=0.8, label="linear")
+    ax.set_xlabel("links")
+    ax.set_ylabel("seconds")
+    ax.set_title(f"time, {frames} frames")
+    ax.legend(fontsize=8)
+    am.loglog(n, [r["rss_mb"] for r in rows], "o-", color="C3")
+    am.set_xlabel("links")
+    am.set_ylabel("peak RSS, MB")
+    am.set_title("peak memory (default call)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
