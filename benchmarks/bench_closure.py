@@ -24,6 +24,7 @@ import argparse
 import cmath
 import json
 import math
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -35,14 +36,13 @@ from mjstruct.kinematics.model import KinematicModel
 from timing import race
 
 Arr = npt.NDArray[np.float64]
-CArr = npt.NDArray[np.complex128]
 
 
-def _cross(a: complex | CArr, b: complex | CArr):  # type: ignore[no-untyped-def]
+def _cross(a: Any, b: Any) -> Any:
     return (a.conjugate() * b).imag
 
 
-def _dot(a: complex | CArr, b: complex | CArr):  # type: ignore[no-untyped-def]
+def _dot(a: Any, b: Any) -> Any:
     return (a.conjugate() * b).real
 
 
@@ -60,7 +60,7 @@ class ClassIV:
         self.mode = math.copysign(1.0, _cross(self.F - self.C0, self.B0 - self.C0))
         self.ua = (self.A0 - self.O) / abs(self.A0 - self.O)
 
-    def residual(self, q, psi):  # type: ignore[no-untyped-def]
+    def residual(self, q: Any, psi: Any) -> tuple[Any, Any, Any]:
         """g, dg/dψ and dg/dq (complex arithmetic: works on floats and on arrays)."""
         np_ = np if isinstance(q, np.ndarray) else cmath
         A = self.O + (self.A0 - self.O) * np_.exp(1j * q)
@@ -78,14 +78,14 @@ class ClassIV:
         E = self.F + u * (self.E0 - self.F)
         g = abs(D - E) ** 2 - self.L2
 
-        def dB(dC):  # type: ignore[no-untyped-def]
+        def dB(dC: Any) -> Any:
             # (B - C)·(B' - C') = 0 and (B - F)·B' = 0, solved for B'
             p, r = B - C, B - self.F
             rhs = _dot(p, dC)
             # B' = x with p·x = rhs, r·x = 0 -> x along i r
             return 1j * r * rhs / _dot(p, 1j * r)
 
-        def g_dot(dA, drot_arm: bool):  # type: ignore[no-untyped-def]
+        def g_dot(dA: Any, drot_arm: bool) -> Any:
             dC = (1j * (C - A) if drot_arm else 0) + dA
             dD = (1j * (D - A) if drot_arm else 0) + dA
             Bp = dB(dC)
@@ -142,11 +142,11 @@ def main() -> None:
     calls = [0]
     real = closure.evaluate
 
-    def counting(*a, **k):  # type: ignore[no-untyped-def]
+    def counting(*a: Any, **k: Any) -> Any:
         calls[0] += 1
         return real(*a, **k)
 
-    closure.evaluate = counting  # type: ignore[assignment]
+    closure.evaluate = counting
     sol = closure.close(model, q)
     closure.evaluate = real
     psi, psi1 = hand_written(mech, qv)
