@@ -16,6 +16,7 @@ from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.closure import closure_jacobian
 from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.solver import kinematic_analysis
+from mjstruct.kinematics.tolerances import STALL_ERROR
 
 TOPOLOGIES = {
     # name: (example file, drivers); the random geometry replaces every "at"
@@ -36,7 +37,12 @@ def _random_mechanism(name: str, xy: list[float]):
     return mechanism_from_dict(data), TOPOLOGIES[name][1]
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
+@settings(
+    max_examples=40,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.filter_too_much],
+)
 @given(
     name=st.sampled_from(sorted(TOPOLOGIES)),
     xy=st.lists(st.floats(-1.0, 1.0), min_size=14, max_size=14),
@@ -70,10 +76,14 @@ def test_any_reference_configuration_moves_consistently(name, xy):
         # at the reference: the branch through it ends there)
         _, Rt = closure_jacobian(r.model, r.model.q_ref[None, :], np.zeros((1, r.plan.unknowns)))
         assume(np.linalg.svd(Rt[0], compute_uv=False).min() > 0.1 * r.geometry.scale)
-    for j in m.joints:  # the reference is reproduced
-        assert r.joints[j.id]["x"][2] == pytest.approx(j.at[0], abs=1e-9)
-        assert r.joints[j.id]["y"][2] == pytest.approx(j.at[1], abs=1e-9)
-    assert r.checks["link_lengths"]["max_error"] < 1e-9
+    # the reference is reproduced, and the links keep their lengths, to what the
+    # closure accepts: tol × STALL_ERROR of the size (1e-11; measured at most 3.3e-14
+    # over these derandomized cases)
+    lim = 1e-14 * STALL_ERROR * r.geometry.scale
+    for j in m.joints:
+        assert r.joints[j.id]["x"][2] == pytest.approx(j.at[0], abs=lim)
+        assert r.joints[j.id]["y"][2] == pytest.approx(j.at[1], abs=lim)
+    assert r.checks["link_lengths"]["max_error"] < lim
     # analogs against central differences: halving h must shrink the gap about 4x
     # (it would stall at the analog's own error if that were wrong)
     for j in m.joints:

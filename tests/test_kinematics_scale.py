@@ -8,13 +8,14 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main as cli_main
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.checks import batched_det, plan_determinant
+from mjstruct.kinematics.closure import closure_jacobian
 from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.jacobian import check_jacobian
 from mjstruct.kinematics.model import KinematicModel
@@ -127,8 +128,14 @@ def test_shared_crank_plans_one_triangle_and_one_diagonal_per_four_bar():
     assert r.checks["jacobian"]["det_from_plan_error"] < 1e-9
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(
+    max_examples=12,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
 @given(groups=st.integers(1, 70), seed=st.integers(0, 10**6))
+@example(groups=28, seed=156)  # a closure near singular at the reference
 def test_every_decomposable_mechanism_plans_and_closes_at_its_reference(groups, seed):
     """Random mechanisms (dyads, triads, class-IV groups, multiple joints, sliders) with
     random geometry, up to about 200 links: a plan, and the reference reproduced."""
@@ -140,9 +147,18 @@ def test_every_decomposable_mechanism_plans_and_closes_at_its_reference(groups, 
     with np.errstate(all="ignore"):
         motion = model.motion(model.q_ref[None, :])
     assert motion.valid.all()
-    # reproduced to rounding, amplified by the worst-conditioned dyad (1 / its sine)
+    # reproduced to first order: rounding (1e-12 of the size) plus the residual the
+    # closure accepted (error e of the size) through its Jacobian in the unknowns
+    # (δt ≈ e·size / σ_min), amplified by the worst-conditioned dyad (1 / its sine);
+    # measured at most 1e-3 of this bound on the cases drawn here
     sines = [abs(float(det[0])) for _, det in motion.evaluation.diag.values()]
-    bound = 1e-9 * model.scale * (1.0 + 1.0 / min(sines, default=1.0))
+    S = model.scale
+    closure = 0.0
+    if motion.closure is not None:
+        _, Rt = closure_jacobian(model, model.q_ref[None, :], motion.closure.t[:1])
+        smallest = float(np.linalg.svd(Rt[0], compute_uv=False).min())
+        closure = float(motion.closure.error.max()) * S / smallest
+    bound = S * (1e-12 + closure) * (1.0 + 1.0 / min(sines, default=1.0))
     for j in m.joints:
         if j.kind == "R":
             assert abs(motion.centre(j.id)[0][0] - complex(*j.at)) < bound
