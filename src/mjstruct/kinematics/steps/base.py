@@ -38,8 +38,8 @@ Modes = Mapping[int, "npt.NDArray[Any] | int"]
 
 
 def other_link(m: Mechanism, joint: str, link: str) -> str:
-    """The link of a two-link ``joint`` that is not ``link``."""
-    return next(x for x in m.joint(joint).links if x != link)
+    """The link of a two-link ``joint`` that is not ``link`` (:meth:`Mechanism.other_link`)."""
+    return m.other_link(joint, link)
 
 
 @dataclass(frozen=True)
