@@ -40,6 +40,11 @@ def test_over_driven_choices_are_refused_naming_the_driver(example, drivers, fix
     assert "--drivers" in err and "over-constrained" in err and f"{fixed} already fixed" in err
 
 
+def test_a_driver_named_twice_is_refused(capsys):
+    err = _refused(["kinematics", str(example_path("four-bar")), "--drivers", "O1,O1"], capsys)
+    assert "--drivers" in err and "listed twice" in err
+
+
 def test_special_geometry_keeps_its_real_mobility():
     # the MS1 parallelogram: one driver, as its Jacobian says (not refused)
     r = kinematic_analysis(read_mechanism(example_path("fourbar-ms1")), frames=8, checks=False)
