@@ -92,6 +92,34 @@ def test_bad_output_paths(tmp_path, capsys, command):
     )
 
 
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["draw", ex("four-bar"), "-o", "/proc/a.png"], "-o"),
+        (["animate", ex("four-bar"), "--frames", "3", "-o", "/proc/x.gif"], "-o"),
+        (["plot", ex("four-bar"), "--what", "angles", "-o", "/sys/x.png"], "-o"),
+        (["atlas", "--dof", "1", "--links", "6", "--draw", "/proc/x.pdf"], "--draw"),
+        (["draw", ex("watt"), "-o", "/proc/w.svg"], "-o"),
+    ],
+)
+def test_unwritable_directories_are_refused(tmp_path, capsys, argv, flag):
+    # the tests run as root, for whom a chmod 0o500 directory stays writable: /proc and
+    # /sys refuse new files to everyone, while os.access says they are writable
+    out = argv[-1]
+    fails_cleanly(capsys, tmp_path, argv, f"{flag}: cannot write {out} (cannot create")
+    assert not os.path.exists(out)
+
+
+def test_a_directory_gone_before_writing_is_a_clean_error(tmp_path):
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    target = str(gone / "x.png")
+    gone.rmdir()  # after the check, before the write
+    with pytest.raises(MechanismError, match=r"^-o: cannot write .*x\.png \(No such file"):
+        write_atomically(target, lambda tmp: None, name="-o")
+    assert os.listdir(tmp_path) == []
+
+
 def test_mp4_needs_ffmpeg(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(animation_module, "ffmpeg_available", lambda: False)
     argv = ["animate", ex("four-bar"), "--frames", "4", "-o", str(tmp_path / "a.mp4")]

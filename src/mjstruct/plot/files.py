@@ -43,10 +43,19 @@ def check_output(path: str, suffixes: Iterable[str], name: str = "path") -> str:
     folder = Path(path).resolve().parent
     if not folder.is_dir():
         raise MechanismError(f"{name}: cannot write {path} (no directory {folder})")
-    if not os.access(folder, os.W_OK):
-        raise MechanismError(f"{name}: cannot write {path} (directory not writable)")
     if Path(path).is_dir():
         raise MechanismError(f"{name}: {path} is a directory")
+    if not os.access(folder, os.W_OK):
+        raise MechanismError(f"{name}: cannot write {path} (directory not writable)")
+    # os.access says yes to root and to pseudo file systems (/proc, /sys): only creating
+    # a file tells, and it must fail here, before anything is computed
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".mjstruct-", suffix=suffix, dir=folder)
+    except OSError as exc:
+        reason = f"cannot create a file in {folder}: {_reason(exc)}"
+        raise MechanismError(f"{name}: cannot write {path} ({reason})") from None
+    os.close(fd)
+    os.unlink(probe)
     return suffix
 
 
@@ -57,17 +66,24 @@ def write_atomically(path: str, write: Callable[[str], None], name: str = "path"
     removed if ``write`` fails, so ``path`` is either complete or untouched.
     """
     target = Path(path).resolve()
-    fd, tmp = tempfile.mkstemp(prefix=".mjstruct-", suffix=target.suffix, dir=target.parent)
-    os.close(fd)
+    tmp: str | None = None
     try:
+        # inside the try: the directory may be unwritable (or gone) since the check
+        fd, tmp = tempfile.mkstemp(prefix=".mjstruct-", suffix=target.suffix, dir=target.parent)
+        os.close(fd)
         write(tmp)
         os.chmod(tmp, _mode(target))
         os.replace(tmp, target)
     except OSError as exc:
-        raise MechanismError(f"{name}: cannot write {path} ({exc.strerror or exc})") from None
+        raise MechanismError(f"{name}: cannot write {path} ({_reason(exc)})") from None
     finally:
-        if os.path.exists(tmp):
+        if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _reason(exc: OSError) -> str:
+    """The system's words for a failed write, without the temporary file's name."""
+    return exc.strerror or type(exc).__name__
 
 
 def _mode(target: Path) -> int:
