@@ -118,31 +118,67 @@ def test_public_names_pinned():
         assert getattr(mjstruct, name) is not None
 
 
+SUBPACKAGES = ("cli", "dynamics", "exchange", "kinematics", "plot", "structure", "synthesis")
+
+
+def test_subpackage_list_complete():
+    found = {p.parent.name for p in (ROOT / "src/mjstruct").glob("*/__init__.py")}
+    assert found == set(SUBPACKAGES)
+
+
 def test_exports_are_stable_callables():
-    """Each export is one object on every access (no subpackage shadows it) and callable."""
+    """Each export is one object on every access (no subpackage shadows it) and is a class
+    (CamelCase names) or a function (lower-case names), as the API reference documents."""
     import importlib
+    import inspect
 
     first = {name: getattr(mjstruct, name) for name in PUBLIC}
     # importing every subpackage must not change what a public name refers to
-    for sub in ("kinematics", "structure", "synthesis", "plot", "cli"):
+    for sub in SUBPACKAGES:
         importlib.import_module(f"mjstruct.{sub}")
     for name in PUBLIC:
         obj = getattr(mjstruct, name)
         assert obj is first[name], name
-        assert callable(obj), name
-        assert not isinstance(obj, type(mjstruct)), f"{name} is a module"
+        assert obj is getattr(mjstruct, name), name
+        assert not inspect.ismodule(obj), f"{name} is a module"
+        if name[0].isupper():
+            assert inspect.isclass(obj), f"{name} is not a class"
+        else:
+            assert inspect.isfunction(obj), f"{name} is not a function"
+
+
+def _init_tree():
+    import ast
+
+    return ast.parse((ROOT / "src/mjstruct/__init__.py").read_text())
 
 
 def test_type_checking_block_matches_exports():
     """The typed re-exports (for type checkers) name exactly the lazy exports."""
     import ast
 
-    tree = ast.parse((ROOT / "src/mjstruct/__init__.py").read_text())
-    block = next(n for n in tree.body if isinstance(n, ast.If))
+    block = next(n for n in _init_tree().body if isinstance(n, ast.If))
     typed = {
         a.name: n.module for n in block.body if isinstance(n, ast.ImportFrom) for a in n.names
     }
     assert typed == mjstruct._EXPORTS
+
+
+def test_all_is_a_literal_list_of_the_exports():
+    """`__all__` is a literal list (a type checker reads it statically; names listed in it
+    are explicit re-exports under `mypy --strict`) holding exactly the lazy exports."""
+    import ast
+
+    assign = next(
+        n
+        for n in _init_tree().body
+        if isinstance(n, ast.Assign) and any(getattr(t, "id", "") == "__all__" for t in n.targets)
+    )
+    assert isinstance(assign.value, ast.List)
+    literal = [ast.literal_eval(e) for e in assign.value.elts]
+    assert literal == mjstruct.__all__
+    assert sorted(literal) == sorted(mjstruct._EXPORTS)
+    assert len(set(literal)) == len(literal)
 
 
 def test_cli_commands_pinned():

@@ -97,18 +97,111 @@ _EXPORTS: dict[str, str] = {
     "seed_invariants": "mjstruct.structure.invariants",
 }
 
-__all__ = sorted(_EXPORTS)
+# a literal list so that type checkers read it; tests/test_api.py keeps it equal to _EXPORTS
+__all__ = [
+    "Assortment",
+    "AssurGroup",
+    "Atlas",
+    "Chain",
+    "Decomposition",
+    "DriverChoice",
+    "DynamicsResult",
+    "FourBar",
+    "GenericMobility",
+    "Joint",
+    "KinematicModel",
+    "KinematicsResult",
+    "Mechanism",
+    "MechanismError",
+    "Motion",
+    "NumericalError",
+    "Point",
+    "SingularAnalysis",
+    "SingularPosition",
+    "StructuralReport",
+    "assortment",
+    "assur_atlas",
+    "assur_groups",
+    "atlas",
+    "canonical_code",
+    "cells",
+    "classify_singular_frames",
+    "code_counts",
+    "code_report",
+    "draw_chart",
+    "draw_scene",
+    "driver_choices",
+    "dynamic_analysis",
+    "familiar_name",
+    "fourbar_theory",
+    "from_link_graph",
+    "full_code",
+    "generic_dof",
+    "generic_mobility",
+    "incidence_matrix",
+    "is_admissible",
+    "is_isomorphic",
+    "is_planar",
+    "jacobian_at_reference",
+    "kinematic_analysis",
+    "link_assortment",
+    "lookup",
+    "loop_assortment",
+    "mechanism_from_dict",
+    "mechanism_from_graphml",
+    "mechanism_from_node_link",
+    "mechanism_from_pyslvs",
+    "mechanism_to_dict",
+    "mechanism_to_graphml",
+    "mechanism_to_node_link",
+    "mechanism_to_pyslvs",
+    "mechanism_to_toml",
+    "mj_assortment",
+    "mj_factor",
+    "parse_code",
+    "parse_mechanism",
+    "pebble_rank",
+    "plan_kinematics",
+    "plot_decomposition",
+    "plot_ms_diagram",
+    "plot_singular_zones",
+    "read_geometry",
+    "read_mechanism",
+    "rigid_components",
+    "rigid_subchain",
+    "rigidity",
+    "scene_at",
+    "scene_over_cycle",
+    "seed_invariants",
+    "simple_joint_count",
+    "singular_analysis",
+    "structural_code",
+    "structural_report",
+    "to_networkx",
+    "write_animation",
+    "write_atlas_sheet",
+    "write_drawing",
+]
 
 if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal to _EXPORTS
-    from mjstruct.dynamics.analysis import DynamicsResult, dynamic_analysis
-    from mjstruct.errors import MechanismError, NumericalError
+    from mjstruct.dynamics.analysis import (
+        DynamicsResult,
+        dynamic_analysis,
+    )
+    from mjstruct.errors import (
+        MechanismError,
+        NumericalError,
+    )
     from mjstruct.exchange.graph_formats import (
         mechanism_from_graphml,
         mechanism_from_node_link,
         mechanism_to_graphml,
         mechanism_to_node_link,
     )
-    from mjstruct.exchange.pyslvs import mechanism_from_pyslvs, mechanism_to_pyslvs
+    from mjstruct.exchange.pyslvs import (
+        mechanism_from_pyslvs,
+        mechanism_to_pyslvs,
+    )
     from mjstruct.io import (
         from_link_graph,
         mechanism_from_dict,
@@ -118,26 +211,65 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         read_mechanism,
         to_networkx,
     )
-    from mjstruct.kinematics.fourbar import FourBar, fourbar_theory
-    from mjstruct.kinematics.geometry import read_geometry
-    from mjstruct.kinematics.jacobian import jacobian_at_reference
-    from mjstruct.kinematics.model import KinematicModel, Motion
-    from mjstruct.kinematics.planner import plan_kinematics
+    from mjstruct.kinematics.fourbar import (
+        FourBar,
+        fourbar_theory,
+    )
+    from mjstruct.kinematics.geometry import (
+        read_geometry,
+    )
+    from mjstruct.kinematics.jacobian import (
+        jacobian_at_reference,
+    )
+    from mjstruct.kinematics.model import (
+        KinematicModel,
+        Motion,
+    )
+    from mjstruct.kinematics.planner import (
+        plan_kinematics,
+    )
     from mjstruct.kinematics.singular import (
         SingularAnalysis,
         SingularPosition,
         classify_singular_frames,
         singular_analysis,
     )
-    from mjstruct.kinematics.solver import KinematicsResult, kinematic_analysis
-    from mjstruct.mechanism import Joint, Mechanism, Point
-    from mjstruct.plot.animation import write_animation
-    from mjstruct.plot.assur import plot_decomposition
-    from mjstruct.plot.atlas_sheet import write_atlas_sheet
-    from mjstruct.plot.charts import draw_chart
-    from mjstruct.plot.drawing import draw_scene, scene_at, scene_over_cycle, write_drawing
-    from mjstruct.plot.ms_diagram import plot_ms_diagram, plot_singular_zones
-    from mjstruct.report import StructuralReport, code_report, structural_report
+    from mjstruct.kinematics.solver import (
+        KinematicsResult,
+        kinematic_analysis,
+    )
+    from mjstruct.mechanism import (
+        Joint,
+        Mechanism,
+        Point,
+    )
+    from mjstruct.plot.animation import (
+        write_animation,
+    )
+    from mjstruct.plot.assur import (
+        plot_decomposition,
+    )
+    from mjstruct.plot.atlas_sheet import (
+        write_atlas_sheet,
+    )
+    from mjstruct.plot.charts import (
+        draw_chart,
+    )
+    from mjstruct.plot.drawing import (
+        draw_scene,
+        scene_at,
+        scene_over_cycle,
+        write_drawing,
+    )
+    from mjstruct.plot.ms_diagram import (
+        plot_ms_diagram,
+        plot_singular_zones,
+    )
+    from mjstruct.report import (
+        StructuralReport,
+        code_report,
+        structural_report,
+    )
     from mjstruct.structure.assortments import (
         Assortment,
         assortment,
@@ -153,19 +285,57 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         assur_groups,
         driver_choices,
     )
-    from mjstruct.structure.codes import full_code, parse_code, structural_code
-    from mjstruct.structure.generic_mobility import GenericMobility, generic_mobility
-    from mjstruct.structure.incidence import incidence_matrix
-    from mjstruct.structure.invariants import seed_invariants
-    from mjstruct.structure.isomorphism import canonical_code, is_isomorphic
-    from mjstruct.structure.loops import is_planar, loop_assortment
-    from mjstruct.structure.pebble import generic_dof, pebble_rank, rigid_components, rigidity
-    from mjstruct.synthesis.admissibility import is_admissible, rigid_subchain
-    from mjstruct.synthesis.assur_atlas import assur_atlas
-    from mjstruct.synthesis.atlas import Atlas, Chain, atlas
-    from mjstruct.synthesis.catalog import lookup
-    from mjstruct.synthesis.cells import cells, code_counts
-    from mjstruct.synthesis.names import familiar_name
+    from mjstruct.structure.codes import (
+        full_code,
+        parse_code,
+        structural_code,
+    )
+    from mjstruct.structure.generic_mobility import (
+        GenericMobility,
+        generic_mobility,
+    )
+    from mjstruct.structure.incidence import (
+        incidence_matrix,
+    )
+    from mjstruct.structure.invariants import (
+        seed_invariants,
+    )
+    from mjstruct.structure.isomorphism import (
+        canonical_code,
+        is_isomorphic,
+    )
+    from mjstruct.structure.loops import (
+        is_planar,
+        loop_assortment,
+    )
+    from mjstruct.structure.pebble import (
+        generic_dof,
+        pebble_rank,
+        rigid_components,
+        rigidity,
+    )
+    from mjstruct.synthesis.admissibility import (
+        is_admissible,
+        rigid_subchain,
+    )
+    from mjstruct.synthesis.assur_atlas import (
+        assur_atlas,
+    )
+    from mjstruct.synthesis.atlas import (
+        Atlas,
+        Chain,
+        atlas,
+    )
+    from mjstruct.synthesis.catalog import (
+        lookup,
+    )
+    from mjstruct.synthesis.cells import (
+        cells,
+        code_counts,
+    )
+    from mjstruct.synthesis.names import (
+        familiar_name,
+    )
 
 
 def __getattr__(name: str) -> Any:
