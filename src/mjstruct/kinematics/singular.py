@@ -64,6 +64,9 @@ FloatArray = npt.NDArray[np.float64]
 KINDS = ("input_limit", "output_extreme", "change_point")
 #: a minor this small (tangent component) along a whole branch makes a fold arc
 FOLD_TOL = 1e-9
+#: a tangent component below this fraction of its largest value along the branch is
+#: zero at that station (a station lying exactly on a singular position)
+ROOT_AT_STATION = 1e-12
 #: three centres are in line when the triangle's sine is below this
 COLLINEAR_TOL = 1e-7
 
@@ -340,8 +343,8 @@ def singular_analysis(
         ):
             if fold:
                 continue
-            for i in np.nonzero(comp[:-1] * comp[1:] < 0)[0]:
-                xr = _refine_root(eq, br, int(i), grad)
+            for i, at_station in _sign_changes(comp):
+                xr = br.x[i] if at_station else _refine_root(eq, br, i, grad)
                 if xr is None:
                     near = [b for b in bifs if _near(eq, br.x[i], b.x, 0.1)]
                     if not near:
@@ -392,6 +395,35 @@ def singular_analysis(
         len(branches),
         revolute,
     )
+
+
+def _sign_changes(comp: FloatArray) -> list[tuple[int, bool]]:
+    """Where a tangent component changes sign along a closed branch.
+
+    ``comp[-1]`` belongs to the closing station, a copy of the first, so the stations
+    are taken cyclically.  Returns ``(i, False)`` for a sign change between stations
+    ``i`` and ``i + 1`` (to be refined) and ``(i, True)`` for a run of vanishing values
+    between opposite signs, ``i`` its middle station (the root itself: the reference,
+    or any start station, can lie exactly on a singular position, where the product
+    test of neighbours sees ``0`` and no sign change).
+    """
+    c = np.asarray(comp[:-1], dtype=np.float64)
+    n = c.size
+    scale = float(np.abs(c).max()) if n else 0.0
+    sign = np.where(np.abs(c) <= ROOT_AT_STATION * scale, 0.0, np.sign(c))
+    if n == 0 or not sign.any():
+        return []
+    out: list[tuple[int, bool]] = []
+    for i in range(n):
+        if sign[i] * sign[(i + 1) % n] < 0:
+            out.append((i, False))
+        elif sign[i] == 0 and sign[i - 1] != 0:  # a run of zeros starts at i
+            k = i
+            while sign[k % n] == 0:
+                k += 1
+            if sign[i - 1] * sign[k % n] < 0:
+                out.append((((i + k - 1) // 2) % n, True))
+    return out
 
 
 def _refine_root(eq: ClosureEquations, br: Branch, i: int, grad: Any) -> FloatArray | None:
