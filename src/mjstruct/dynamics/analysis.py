@@ -37,6 +37,7 @@ from mjstruct.dynamics.equation import (
 )
 from mjstruct.dynamics.matrices import LinkMotion, active_forces, check_dimensions, link_motion
 from mjstruct.dynamics.reactions import (
+    SINGULAR_CONDITION,
     generalised_drive,
     inertia_loads,
     solve_stack,
@@ -55,6 +56,9 @@ OUTPUTS = ("coefficients", "motion", "reactions", "driving", "check")
 
 #: frames whose system is worse conditioned than this are named in a warning
 ILL_CONDITIONED = 1e3
+
+#: machine epsilon: the solve's relative error is up to condition × EPS
+EPS = float(np.finfo(float).eps)
 
 
 @dataclass(frozen=True)
@@ -79,9 +83,15 @@ class DynamicsResult:
         joint applies to the link (an MJ: one entry per link, summing to zero).
     residual : per-frame relative residual of the excluded equation.
     check : the largest of ``residual`` (None when no frame was solved).
-    condition : per-frame condition number of the link equations (JSON: its largest
-        value); near a singular position the accelerations and reactions lose between
-        log10 and 2·log10 of it in digits.
+    condition : per-frame estimate of the condition number κ∞ of the link equations
+        (a lower bound within a small factor, from the solve's own factorisation; JSON:
+        its largest value); near a singular position the accelerations and reactions
+        lose between log10 and 2·log10 of it in digits.  Frames above
+        ``SINGULAR_CONDITION`` (1e15) are singular: null loads and a warning.
+    accuracy : per-frame estimate of the relative error of the reactions and actuator
+        loads from the solve, condition × machine epsilon (JSON: its largest value).
+        ``check`` cannot see this loss (the excluded equation is computed from the
+        same rounded loads), ``accuracy`` grows with the conditioning.
     warnings : what the user must know.
     """
 
@@ -103,6 +113,7 @@ class DynamicsResult:
     residual: FloatArray | None = None
     check: float | None = None
     condition: FloatArray | None = None
+    accuracy: FloatArray | None = None
     warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
@@ -127,8 +138,9 @@ class DynamicsResult:
             }
         if self.residual is not None:
             out["check"] = _num(self.check)
-        if self.condition is not None and np.isfinite(self.condition).any():
-            out["condition"] = _num(float(np.nanmax(self.condition)))
+        for key, arr in (("condition", self.condition), ("accuracy", self.accuracy)):
+            if arr is not None and np.isfinite(arr).any():
+                out[key] = _num(float(arr[np.isfinite(arr)].max()))
         out["warnings"] = list(self.warnings)
         return out
 
@@ -403,12 +415,13 @@ def _forces(
     S = stack_loads(force, moment)
     ok = lm.valid.copy()
     S = np.where(ok[:, None], S, np.nan)
-    x, solved = solve_stack(A, S)
+    x, solved, cond = solve_stack(A, S)
     if (ok & ~solved).any():
         bad = float(lm.q[np.argmax(ok & ~solved), 0])
         warnings.append(
             f"the joint loads are not determined at {int((ok & ~solved).sum())} frame(s) "
-            f"(a singular position; first q = {bad:.9g}); their values are null"
+            f"(a singular position: condition number above {SINGULAR_CONDITION:.0e}; "
+            f"first q = {bad:.9g}); their values are null"
         )
     if (~ok).any():
         warnings.append(
@@ -416,11 +429,9 @@ def _forces(
             f"(first q = {float(lm.q[np.argmax(~ok), 0]):.9g}); their values are null"
         )
     solved &= ok
-    with np.errstate(all="ignore"):
-        cond = np.where(
-            solved, np.linalg.cond(np.where(solved[:, None, None], A, np.eye(A.shape[1]))), np.nan
-        )
-    worst = np.nanargmax(cond) if np.isfinite(cond).any() else None
+    kappa = np.where(ok, cond, np.nan)  # singular frames keep theirs: it says why
+    solved_kappa = np.where(solved, cond, np.nan)
+    worst = int(np.nanargmax(solved_kappa)) if np.isfinite(solved_kappa).any() else None
     if worst is not None and cond[worst] > ILL_CONDITIONED:
         warnings.append(
             "near-singular position: the link equations' condition number reaches "
@@ -433,22 +444,24 @@ def _forces(
     tau_sys = x[:, drive_cols].T  # drivers × frames
     tau_eom = np.zeros_like(tau_sys) if free else generalised_drive(lm, force, moment)
     # the largest load of each frame, moments counted as forces at the mechanism's size
-    forces = [np.abs(fa), np.abs(fi)]
-    moments = [np.abs(ma), np.abs(mi)]
-    for c, u in enumerate(cols):
-        if u.kind in ("x", "y", "n") or (u.kind == "drive" and m.joint(u.joint).kind == "P"):
-            forces.append(np.abs(x[:, c])[None])
-        else:
-            moments.append(np.abs(x[:, c])[None])
+    is_force = np.array(
+        [
+            u.kind in ("x", "y", "n") or (u.kind == "drive" and m.joint(u.joint).kind == "P")
+            for u in cols
+        ]
+    )
+    ax = np.abs(x)
+    # np.fmax ignores NaN without the All-NaN warning of np.nanmax (frames not solved)
     with np.errstate(all="ignore"):
-        big = np.maximum(
-            np.nanmax(np.concatenate(forces), axis=0),
-            np.nanmax(np.concatenate(moments), axis=0) / ell,
+        big_f = np.fmax.reduce(np.concatenate([np.abs(fa), np.abs(fi), ax[:, is_force].T]), axis=0)
+        big_m = np.fmax.reduce(
+            np.concatenate([np.abs(ma), np.abs(mi), ax[:, ~is_force].T]), axis=0
         )
+        big = np.fmax(big_f, big_m / ell)
         unit = np.array([ell if m.joint(d).kind == "R" else 1.0 for d in model.drivers])
         rel = np.abs(tau_sys - tau_eom) / (big[None] * unit[:, None])
         rel = np.where(big[None] > 0, rel, np.abs(tau_sys - tau_eom))
-    residual = np.where(solved, np.nanmax(rel, axis=0), np.nan)
+    residual = np.where(solved, np.fmax.reduce(rel, axis=0), np.nan)
     check = float(np.nanmax(residual)) if np.isfinite(residual).any() else None
 
     reactions: dict[str, dict[str, dict[str, FloatArray]]] | None = None
@@ -483,5 +496,6 @@ def _forces(
         reactions=reactions,
         residual=residual if "check" in wanted else None,
         check=check if "check" in wanted else None,
-        condition=cond,
+        condition=kappa,
+        accuracy=solved_kappa * EPS,
     )
