@@ -77,26 +77,32 @@ class Zone:
 
     Attributes
     ----------
-    pair : the two links in line (``None`` when no pair is: the zone of the whole
-        position, measured on ``link``).
+    pair : the two moving links in line.
     link : the longer link of the pair, whose turn about its pivot is ``psi``.
     psi : zone angle (rad): formula (3) for a four-bar, else the leading order.
     method : ``"formula-3"`` or ``"leading-order"``.
     psi_exact : the feasibility search's angle (only when asked for).
+    lam, delta : formula (3)'s ``lambda = r / l`` (shorter over longer link of the
+        pair) and ``delta = D / l`` (total clearance over the longer link); ``None``
+        for a leading-order zone, which does not use them.
     """
 
-    pair: tuple[str, str] | None
+    pair: tuple[str, str]
     link: str
     psi: float | None
     method: str
     psi_exact: float | None = None
+    lam: float | None = None
+    delta: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
-            "pair": None if self.pair is None else list(self.pair),
+            "pair": list(self.pair),
             "link": self.link,
             "psi": _num(self.psi),
             "method": self.method,
+            "lambda": _num(self.lam),
+            "delta": _num(self.delta),
         }
         if self.psi_exact is not None:
             d["psi_exact"] = _num(self.psi_exact)
@@ -114,7 +120,9 @@ class SingularPosition:
     output_angle : the output link's angle (rad, in (-pi, pi]).
     collinear : ids of the joints in line (file order).
     pairs : pairs of moving links in line with their shared joint.
-    zone : clearance zones, one per pair (``None`` without a clearance).
+    zone : clearance zones, one per collinear pair of moving links (empty when no
+        two are in line, e.g. a class-III group's input limit; ``None`` without a
+        clearance).
     configuration : the link coordinates there (``x, y, phi`` of each moving link,
         lengths over the mechanism's size), as
         :class:`~mjstruct.kinematics.singular_curve.ClosureEquations` numbers them.
@@ -508,6 +516,8 @@ def _zones(
             stretched = (u.conjugate() * v).real < 0
             psi: float | None = formula3(max(la, lb), min(la, lb), clearance, stretched)
             method = "formula-3"
+            lam: float | None = min(la, lb) / max(la, lb)
+            delta: float | None = clearance / max(la, lb)
             f = fixed
             if kind == "change_point" and longer == eq.output_link:
                 f = "input"
@@ -517,17 +527,13 @@ def _zones(
             f = fixed if _turns(eq, x, fixed, longer) else _other(fixed)
             psi = leading_order_zone(eq, x, f, longer, per_pin)
             method = "leading-order"
+            lam = delta = None
         pe = None
         if exact:
             pe = exact_zone(eq, x, f, longer, per_pin, guess=psi)
-        out.append(Zone((a, b), longer, psi, method, pe))
-    if not out:
-        # no pair in line (e.g. a class-III group): the zone of the link turning most
-        vd, _ = _direction(eq, x, fixed)
-        link = max(eq.moving, key=lambda k: abs(vd[3 * eq.moving.index(k) + 2]))
-        psi = leading_order_zone(eq, x, fixed, link, per_pin)
-        pe = exact_zone(eq, x, fixed, link, per_pin, guess=psi) if exact else None
-        out.append(Zone(None, link, psi, "leading-order", pe))
+        out.append(Zone((a, b), longer, psi, method, pe, lam, delta))
+    # no pair in line (e.g. a class-III group's input limit): no entry, as the
+    # contract has one entry per collinear pair
     return tuple(out)
 
 
@@ -641,12 +647,17 @@ def render(r: SingularAnalysis) -> str:
             f"{' '.join(p.collinear) or '-'}"
         )
         for z in p.zone or ():
-            pair = "-" if z.pair is None else "-".join(z.pair)
             psi = "-" if z.psi is None else f"{math.degrees(z.psi):.4f}"
             ex = "" if z.psi_exact is None else f", exact {math.degrees(z.psi_exact):.4f}"
+            ld = ""
+            if z.lam is not None and z.delta is not None:
+                ld = f", lambda {z.lam:.6g}, delta {z.delta:.6g}"
             lines.append(
-                f"      zone: pair {pair}, link {z.link} turns {psi} deg ({z.method}{ex})"
+                f"      zone: pair {'-'.join(z.pair)}, link {z.link} turns {psi} deg "
+                f"({z.method}{ld}{ex})"
             )
+        if p.zone is not None and not p.zone:
+            lines.append("      zone: none (no two moving links in line)")
     if r.clearance is not None:
         lines.append(f"clearance D = {r.clearance:g} (total radial, split evenly over the pins)")
     lines += [f"warning: {w}" for w in r.warnings]
