@@ -33,12 +33,16 @@ def test_lookup_every_example(path: Path, capsys: pytest.CaptureFixture[str]) ->
     elif (r.F, m.n) in SHIPPED:
         assert not is_admissible(m)
     else:
-        assert "not in catalog" in r.reason and "mjstruct atlas" in r.reason
+        # the library advises a call of atlas(), the command its flags
+        assert "not in catalog" in r.reason and "atlas(F=" in r.reason
+        assert "--" not in r.reason and r.atlas_args["n"] == m.n
     assert main(["lookup", str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["found"] == r.found
     if r.found:
         assert {"id", "name", "K", "V", "code", "code_star"} <= set(out)
+    elif r.atlas_args:
+        assert f"`mjstruct atlas --dof {r.F} --links {m.n}" in out["reason"]
 
 
 def test_familiar_names() -> None:

@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-FLAGS = {"n": "--links", "workers": "--workers", "F": "--dof"}
+FLAGS = {"n": "--links", "workers": "--workers", "F": "--dof", "scheduler": "--scheduler"}
 TOO_LARGE = "pass --large to enumerate anyway"
 
 

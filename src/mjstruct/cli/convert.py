@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from mjstruct.cli.output import driver_list, emit_json
+from mjstruct.cli.output import driver_list, emit_json, flag_names
 
 _FORMATS = ("json", "toml", "pyslvs", "pyslvs-project", "graphml", "node-link")
 
@@ -48,7 +48,8 @@ def run(args: argparse.Namespace) -> int:
     if args.output is None and args.json:
         raise MechanismError("--json: needs -o OUT (without it the result goes to stdout)")
     source_format = format_for(args.input, args.source_format)
-    m = read_as(args.input, source_format, pin_slot=args.pin_slot)
+    with flag_names(pin_slot="--pin-slot"):
+        m = read_as(args.input, source_format, pin_slot=args.pin_slot)
     drivers = driver_list(args.drivers, m)
     if drivers is not None:
         m = m.with_drivers(drivers)

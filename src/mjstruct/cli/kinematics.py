@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from mjstruct.cli.output import driver_list, emit_json, emit_text
+from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 
@@ -40,6 +40,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
 
+#: the library's parameter names and the flags that set them
+FLAGS = {
+    "drivers": "--drivers",
+    "speed": "--speed",
+    "frames": "--frames",
+    "tol": "--tol",
+    "stroke": "--stroke",
+    "max_memory": "--max-memory",
+}
+
+
 def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
     from mjstruct.kinematics.report import render, write_csv
@@ -63,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         )
     m = read_mechanism(args.file)
     drivers = driver_list(args.drivers, m)
-    try:
+    with flag_names(**FLAGS):
         r = kinematic_analysis(
             m,
             drivers=drivers,
@@ -74,8 +85,6 @@ def run(args: argparse.Namespace) -> int:
             checks=not args.no_checks,
             max_memory=args.max_memory,
         )
-    except MechanismError as exc:
-        raise MechanismError(_flag_names(str(exc))) from None
     if args.csv:
         try:
             write_csv(r, args.csv)
@@ -86,22 +95,3 @@ def run(args: argparse.Namespace) -> int:
     else:
         emit_text(render(r))
     return 0
-
-
-#: the library's parameter names and the flags that set them
-_FLAGS = {
-    "drivers:": "--drivers:",
-    "speed:": "--speed:",
-    "frames:": "--frames:",
-    "tol:": "--tol:",
-    "stroke:": "--stroke:",
-    "max_memory": "--max-memory",
-}
-
-
-def _flag_names(message: str) -> str:
-    """A library message with its leading parameter name turned into the flag's."""
-    for name, flag in _FLAGS.items():
-        if message.startswith(name):
-            message = flag + message[len(name) :]
-    return message.replace("(max_memory, or", "(--max-memory, or")

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.cli.output import emit_json, emit_text
+
+if TYPE_CHECKING:
+    from mjstruct.synthesis.catalog import LookupResult
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -18,6 +21,7 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.synthesis.catalog import lookup
 
     r = lookup(read_mechanism(args.file))
+    reason = _reason(r)
     if args.json:
         out: dict[str, Any] = {"found": r.found, "canonical": r.canonical, "F": r.F, "n": r.n}
         if r.found:
@@ -31,11 +35,11 @@ def run(args: argparse.Namespace) -> int:
             out["planar"] = rec["planar"]
             out["fractionated"] = rec["fractionated"]
         else:
-            out["reason"] = r.reason
+            out["reason"] = reason
         emit_json(out)
         return 0
     if not r.found:
-        emit_text(f"{args.file}: {r.reason}\ncanonical {r.canonical}")
+        emit_text(f"{args.file}: {reason}\ncanonical {r.canonical}")
         return 0
     rec = r.record
     emit_text(
@@ -47,3 +51,16 @@ def run(args: argparse.Namespace) -> int:
         + f"\ncanonical {rec['canonical']}"
     )
     return 0
+
+
+def _reason(r: LookupResult) -> str:
+    """The library's reason, with its advice given as the ``mjstruct atlas`` command."""
+    from mjstruct.synthesis.catalog import not_shipped_reason
+
+    if not r.atlas_args:
+        return r.reason
+    a = r.atlas_args
+    flags = f"--dof {a['F']} --links {a['n']}"
+    flags += " --mj" if a.get("mj") else ""
+    flags += " --fractionated" if a.get("fractionated") else ""
+    return not_shipped_reason(f"`mjstruct atlas {flags}`", r.n)

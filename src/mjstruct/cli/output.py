@@ -78,9 +78,14 @@ def emit_text(text: str) -> None:
 def flag_names(**flags: str) -> Iterator[None]:
     """Re-raise a library error that names a parameter as one naming the command's flag.
 
-    Library functions speak of their parameters (``drivers: ...``); inside this block
-    an error whose message starts with a parameter given here is re-raised with the
-    flag instead, for the values that came from the command line.
+    Library functions speak of their parameters; inside this block an error naming a
+    parameter given here is re-raised naming the flag instead, for the values that came
+    from the command line:
+
+    - a message that starts with the parameter (``drivers: ...``) starts with the flag;
+    - a parameter whose name holds an underscore (an identifier, never a word of the
+      sentence) is replaced wherever it stands outside a path, and its keyword form
+      ``name='value'`` becomes ``--flag value``.
 
     >>> try:
     ...     with flag_names(drivers="--drivers"):
@@ -88,14 +93,28 @@ def flag_names(**flags: str) -> Iterator[None]:
     ... except MechanismError as exc:
     ...     print(exc)
     --drivers: 'X' is not a joint id
+    >>> try:
+    ...     with flag_names(pin_slot="--pin-slot", max_memory="--max-memory"):
+    ...         raise MechanismError("a.pmks: retry with pin_slot='block' (or max_memory)")
+    ... except MechanismError as exc:
+    ...     print(exc)
+    a.pmks: retry with --pin-slot block (or --max-memory)
     """
     try:
         yield
     except MechanismError as exc:
-        text = str(exc)
+        text = renamed = str(exc)
         for name, flag in flags.items():
-            if text.startswith(name + ":"):
-                raise MechanismError(flag + text[len(name) :]) from None
+            if renamed.startswith(name + ":"):
+                renamed = flag + renamed[len(name) :]
+            if "_" in name:
+                renamed = re.sub(
+                    rf"(?<![\w./\\-]){re.escape(name)}(?:='([^']*)')?(?![\w/\\])",
+                    lambda mt, flag=flag: flag + ("" if mt[1] is None else " " + mt[1]),
+                    renamed,
+                )
+        if renamed != text:
+            raise MechanismError(renamed) from None
         raise
 
 

@@ -349,7 +349,7 @@ def mechanism_from_pyslvs(
         if pin_slot == "refuse":
             raise MechanismError(
                 f"{where} is a pin in a slot, a two-DOF higher pair that R and P joints "
-                "cannot represent; convert with pin_slot='block' (--pin-slot block) to put "
+                "cannot represent; convert with pin_slot='block' to put "
                 "a slider block in its place"
             )
         block = f"{links[0]}_block{i}"

@@ -304,7 +304,25 @@ def query(sql: str, params: tuple[Any, ...] = ()) -> list[dict[str, Any]]:
 
 @dataclass
 class LookupResult:
-    """Outcome of :func:`lookup`: the catalog record, or why there is none."""
+    """Outcome of :func:`lookup`: the catalog record, or why there is none.
+
+    Attributes
+    ----------
+    found
+        Whether the chain is in a shipped catalog.
+    canonical
+        Chain-level canonical code of the mechanism.
+    F, n
+        Degrees of freedom (Grübler) and number of links.
+    record
+        The catalog record when found.
+    reason
+        Why there is no record, and what to do, in terms of this library.
+    atlas_args
+        When the chain lies outside the shipped catalogs: the keyword arguments of
+        :func:`mjstruct.synthesis.atlas.atlas` that enumerate its family (``F``, ``n``,
+        ``mj``, ``fractionated``); empty otherwise.
+    """
 
     found: bool
     canonical: str
@@ -312,10 +330,34 @@ class LookupResult:
     n: int
     record: dict[str, Any] = field(default_factory=dict)
     reason: str = ""
+    atlas_args: dict[str, Any] = field(default_factory=dict)
+
+
+def not_shipped_reason(how: str, n: int) -> str:
+    """Why a chain outside the shipped catalogs is not found, advising ``how`` to enumerate.
+
+    One wording for the library (``how`` a call of :func:`~mjstruct.synthesis.atlas.atlas`)
+    and the command line (``how`` an ``mjstruct atlas`` command).
+
+    >>> not_shipped_reason("atlas(F=1, n=12)", 12)  # doctest: +NORMALIZE_WHITESPACE
+    'not in catalog (shipped: F = 1 up to 10 links, F = 2 up to 9 links);
+    enumerate with atlas(F=1, n=12)'
+    """
+    reason = (
+        f"not in catalog (shipped: F = 1 up to 10 links, F = 2 up to 9 links); "
+        f"enumerate with {how}"
+    )
+    if n > 12:
+        reason += " (beyond about 12 links such an enumeration is very long)"
+    return reason
 
 
 def lookup(m: Mechanism) -> LookupResult:
-    """Find the chain of ``m`` in the shipped catalogs by its chain-level canonical code."""
+    """Find the chain of ``m`` in the shipped catalogs by its chain-level canonical code.
+
+    When the chain is outside the shipped catalogs, the result's ``atlas_args`` are the
+    arguments of :func:`~mjstruct.synthesis.atlas.atlas` that enumerate it.
+    """
     expect_mechanism(m)
     from mjstruct.structure.assortments import simple_joint_count
     from mjstruct.structure.isomorphism import canonical_code
@@ -335,19 +377,16 @@ def lookup(m: Mechanism) -> LookupResult:
             else "it should be there: please report this"
         )
         reason = f"not in catalog: the catalog of F = {F}, n = {m.n} is complete and {why}"
-    else:
-        from mjstruct.synthesis.admissibility import is_fractionated
+        return LookupResult(False, code, F, m.n, {}, reason)
+    from mjstruct.synthesis.admissibility import is_fractionated
 
-        flags = f"--dof {F} --links {m.n}"
-        flags += " --mj" if any(j.is_multiple for j in m.joints) else ""
-        flags += " --fractionated" if is_fractionated(m) else ""
-        reason = (
-            f"not in catalog (shipped: F = 1 up to 10 links, F = 2 up to 9 links); "
-            f"enumerate with `mjstruct atlas {flags}`"
-        )
-        if m.n > 12:
-            reason += " (beyond about 12 links such an enumeration is very long)"
-    return LookupResult(False, code, F, m.n, {}, reason)
+    args: dict[str, Any] = {"F": F, "n": m.n}
+    if any(j.is_multiple for j in m.joints):
+        args["mj"] = True
+    if is_fractionated(m):
+        args["fractionated"] = True
+    call = "atlas(" + ", ".join(f"{k}={v!r}" for k, v in args.items()) + ")"
+    return LookupResult(False, code, F, m.n, {}, not_shipped_reason(call, m.n), args)
 
 
 if __name__ == "__main__":  # regenerate: python -m mjstruct.synthesis.catalog

@@ -91,7 +91,7 @@ def _run_dask(
         from mjstruct.errors import MechanismError
 
         raise MechanismError(
-            "--scheduler: needs dask.distributed (pip install 'dask[distributed]')"
+            "scheduler: needs dask.distributed (pip install 'dask[distributed]')"
         ) from None
     with Client(scheduler) as client:
         futures = client.map(fn, list(tasks), pure=False)
