@@ -22,6 +22,7 @@ import re
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError
@@ -110,12 +111,17 @@ def flag_names(**flags: str) -> Iterator[None]:
             if "_" in name:
                 renamed = re.sub(
                     rf"(?<![\w./\\-]){re.escape(name)}(?:='([^']*)')?(?![\w/\\])",
-                    lambda mt, flag=flag: flag + ("" if mt[1] is None else " " + mt[1]),
+                    partial(_as_flag, flag),
                     renamed,
                 )
         if renamed != text:
             raise MechanismError(renamed) from None
         raise
+
+
+def _as_flag(flag: str, mt: re.Match[str]) -> str:
+    """``--flag`` for a parameter's name, ``--flag value`` for its ``name='value'``."""
+    return flag if mt[1] is None else f"{flag} {mt[1]}"
 
 
 def driver_list(text: str | None, m: Mechanism) -> list[str] | None:
