@@ -169,6 +169,7 @@ class SingularAnalysis:
     clearance: float | None
     branches: int
     revolute: bool = True
+    fourbar_output: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (no NaN: missing numbers are null)."""
@@ -182,6 +183,7 @@ class SingularAnalysis:
                 "system4": list(f.system4),
                 "swing": _num(f.swing),
                 "time_ratio": _num(f.time_ratio),
+                "output_link": self.fourbar_output,
             }
         return {
             "input": self.input,
@@ -214,10 +216,10 @@ def _is_fourbar(m: Mechanism) -> bool:
     )
 
 
-def fourbar_lengths(
-    m: Mechanism, eq: ClosureEquations
-) -> tuple[float, float, float, float] | None:
-    """(l0, l1, l2, l3) of a four-bar driven at a frame joint, else ``None``."""
+def fourbar_links(m: Mechanism, eq: ClosureEquations) -> tuple[str, str, str] | None:
+    """(input, coupler, output) link ids of a four-bar driven at a frame joint, else
+    ``None``; the output here is the link hinged to the frame at the other frame joint
+    (the one the closed-form theory's ``P3``, swing and time ratio describe)."""
     if not _is_fourbar(m) or m.frame not in m.joint(eq.driver).links:
         return None
     d = m.joint(eq.driver)
@@ -225,6 +227,19 @@ def fourbar_lengths(
     other = next(j for j in m.joints if j.id != d.id and m.frame in j.links)
     out = next(x for x in other.links if x != m.frame)
     coupler = next(x for x in m.links if x not in (m.frame, inp, out))
+    return inp, coupler, out
+
+
+def fourbar_lengths(
+    m: Mechanism, eq: ClosureEquations
+) -> tuple[float, float, float, float] | None:
+    """(l0, l1, l2, l3) of a four-bar driven at a frame joint, else ``None``."""
+    links = fourbar_links(m, eq)
+    if links is None:
+        return None
+    inp, coupler, out = links
+    d = m.joint(eq.driver)
+    other = next(j for j in m.joints if j.id != d.id and m.frame in j.links)
     A = next(j.id for j in m.joints if set(j.links) == {inp, coupler})
     B = next(j.id for j in m.joints if set(j.links) == {coupler, out})
     c = eq.geometry.centres
@@ -319,6 +334,13 @@ def singular_analysis(
         fb = fourbar_theory(l1 / l0, l2 / l0, l3 / l0)
     branches, bifs = trace_component(eq, eq.reference())
     warnings: list[str] = []
+    fb_links = fourbar_links(m, eq) if fb is not None else None
+    fb_out = None if fb_links is None else fb_links[2]
+    if fb_out is not None and fb_out != eq.output_link:
+        warnings.append(
+            f"fourbar: swing and time_ratio are those of link {fb_out} (the output hinged "
+            f"to the frame), not of the chosen output link {eq.output_link}"
+        )
     rows = eq.jacobian(eq.reference()).shape[0]
     if rows != eq.n - 1:
         warnings.append(
@@ -402,6 +424,7 @@ def singular_analysis(
         clearance,
         len(branches),
         revolute,
+        fb_out,
     )
 
 
@@ -636,7 +659,7 @@ def render(r: SingularAnalysis) -> str:
         lines += [
             f"four-bar MS = [{f.MS[0]:.6g} {f.MS[1]:.6g} {f.MS[2]:.6g}]: {f.motion}, "
             f"{'Grashof' if f.grashof else 'non-Grashof'}; system (4): {sys4}",
-            f"  output swing {sw}, time ratio {tr}",
+            f"  output (link {r.fourbar_output}) swing {sw}, time ratio {tr}",
         ]
     lines.append(f"singular positions ({len(r.singular)}):")
     head = f"  {'kind':<15} {'q ' + unit:>14} {'output deg':>12}  collinear"
