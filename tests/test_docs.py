@@ -100,3 +100,44 @@ def test_every_shipped_example_is_described() -> None:
     listed = set(re.findall(r"[\w.-]+\.json", table))
     missing = sorted(p.name for p in examples.glob("*.json") if p.name not in listed)
     assert not missing, f"catalogs/examples/README.md does not describe {missing}"
+
+
+# the source papers whose formulas or methods modules implement: each is cited in a
+# numpydoc References section of at least one module
+IMPLEMENTED = [
+    "Artobolevsky 1988",
+    "Assur 1914",
+    "Lee & Streinu 2008",
+    "MJ structure 2020",
+    "Panasenko 2025",
+    "Zinchenko",
+    "Four-bar clearances",
+    "McKay & Piperno 2014",
+]
+
+
+def _module_docstrings() -> dict[str, str]:
+    import ast
+
+    out = {}
+    for path in sorted((ROOT / "src/mjstruct").rglob("*.py")):
+        doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
+        out[_rel(path)] = " ".join(doc.split())
+    return out
+
+
+@pytest.mark.parametrize("key", IMPLEMENTED)
+def test_source_papers_cited_by_the_modules_implementing_them(key: str) -> None:
+    keys = set(re.findall(r"^\*\*\[([^\]]+)\]\*\*", _references(), re.M))
+    assert key in keys
+    citing = [
+        name
+        for name, doc in _module_docstrings().items()
+        if "References ----------" in doc
+        and f"[{key}] in docs/references.md" in doc.split("References ----------", 1)[1]
+    ]
+    assert citing, f"no module's References section cites [{key}]"
+
+
+def _references() -> str:
+    return (ROOT / "docs/references.md").read_text(encoding="utf-8")

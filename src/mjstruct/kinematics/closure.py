@@ -15,6 +15,17 @@ path's length and curvature, not on the number of frames.
 Afterwards the unknowns' derivatives follow from the differentiated closure
 equations, ``R_t t' = -R_q`` and ``R_t t'' = -R''``, so σ and κ stay exact.
 
+This is Zinchenko's method for a class-IV mechanism [1]_: split the group into
+class-II groups by assuming one link's position, and iterate on one length until the
+group closes.
+
+References
+----------
+.. [1] O. I. Zinchenko, "Kinematic analysis of a high-class mechanism using a library of
+   subroutines for the analysis of second-class groups" (in Ukrainian), NTU "Kharkiv
+   Polytechnic Institute", collection of papers (journal and year not given in the
+   copy). [Zinchenko] in docs/references.md.
+
 Examples
 --------
 >>> import numpy as np
