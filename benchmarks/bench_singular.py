@@ -23,7 +23,7 @@ from mjstruct.io import mechanism_from_dict, read_mechanism
 from mjstruct.kinematics.clearance import formula3, leading_order_zone
 from mjstruct.kinematics.fourbar import REFERENCE_MATRICES, fourbar_singular_angles
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.kinematics.singular import _collinear, singular_analysis
+from mjstruct.kinematics.singular import singular_analysis
 from mjstruct.kinematics.singular_curve import ClosureEquations
 from timing import race
 
@@ -118,8 +118,8 @@ def zone_table() -> None:
             if p.kind == "change_point":
                 continue
             x = np.array(p.configuration)
-            _, triples = _collinear(eq, x)
-            a, b, jid, ja, jb = next(t for t in triples if "0" not in t[:2])
+            a, b = p.pairs[0]  # the moving links in line, and the joints of each
+            jid, ja, jb = _in_line(m, a, b)
             cen = eq.geometry.centres
             la, lb = abs(cen[ja] - cen[jid]), abs(cen[jb] - cen[jid])
             longer = a if la >= lb else b
@@ -138,6 +138,15 @@ def zone_table() -> None:
             if line not in rows_seen:  # mirror positions repeat the same numbers
                 rows_seen.add(line)
                 print(line)
+
+
+def _in_line(m, a, b):
+    """The joint of links a and b, and the other joint of each (links of a four-bar have
+    two joints): the three joint centres in line at a singular position."""
+    jid = next(j.id for j in m.joints if {a, b} <= set(j.links))
+    ja = next(j for j in m.link_joints[a] if j != jid)
+    jb = next(j for j in m.link_joints[b] if j != jid)
+    return jid, ja, jb
 
 
 def main() -> None:

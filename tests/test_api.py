@@ -194,3 +194,19 @@ def test_every_subpackage_is_packaged():
         for p in (ROOT / "src" / "mjstruct").rglob("__init__.py")
     }
     assert found <= listed
+
+
+def test_no_private_names_imported_across_modules():
+    """Library modules and benchmarks use each other's public names only."""
+    import ast
+
+    bad = []
+    for path in sorted([*(ROOT / "src").rglob("*.py"), *(ROOT / "benchmarks").glob("*.py")]):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("mjstruct"):
+                bad += [
+                    f"{path.relative_to(ROOT)}: {node.module}.{a.name}"
+                    for a in node.names
+                    if a.name.startswith("_") and not a.name.startswith("__")
+                ]
+    assert not bad, bad

@@ -64,10 +64,6 @@ class Geometry:
     driver_ref: dict[str, float]
     scale: float
 
-    def distance(self, a: str, b: str) -> float:
-        """Distance between two joint centres at the reference configuration."""
-        return abs(self.centres[a] - self.centres[b])
-
 
 def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geometry:
     """Read and check the geometry keys of ``m`` (``at``, ``axis``, ``points``).

@@ -252,7 +252,7 @@ def plan_kinematics(
     assert m.frame is not None  # read_geometry checked it
     _check_drivers(m, geom, drv)
     topo = Topology(m, drv)
-    groups, source, dec_ref, _ = _groups_from(m, drv, decomposition)
+    groups, source, dec_ref = _groups_from(m, drv, decomposition)
     refs = [m.frame] if dec_ref is None else [dec_ref, m.frame]
     # an inner driver (not on the frame) suggests solving in its first link's frame
     for d in drv:
@@ -385,9 +385,9 @@ def _jacobian_dof(m: Mechanism, geom: Geometry) -> int:
 
 def _groups_from(
     m: Mechanism, drivers: tuple[str, ...], decomposition: Decomposition | None
-) -> tuple[list[set[str]] | None, str, str | None, int]:
-    """Group order, reference link and the number of groups of class III and above
-    (each needs a closure unknown) from an Assur decomposition, if usable."""
+) -> tuple[list[set[str]] | None, str, str | None]:
+    """Group order, plan source and reference link from an Assur decomposition, if
+    usable (else no groups: plan by propagation)."""
     dec = decomposition
     if dec is None:
         try:
@@ -395,13 +395,13 @@ def _groups_from(
         except MechanismError:
             # not balanced generically (a special geometry such as a parallelogram):
             # plan by propagation alone, the Jacobian decides
-            return None, "propagation", None, 0
+            return None, "propagation", None
     if not dec.groups:
-        return None, "propagation", None, 0
+        return None, "propagation", None
     sets = [set(g.links) for g in dec.groups]
     moving = set(m.links) - {m.frame}
     if not set().union(*sets) <= moving | {m.frame}:
-        return None, "propagation", None, 0
+        return None, "propagation", None
     refs = {g.reference for g in dec.groups} - {m.frame}
     ref = next(iter(refs)) if len(refs) == 1 else None
-    return sets, "assur", ref, sum(1 for g in dec.groups if g.klass >= 3)
+    return sets, "assur", ref
