@@ -355,3 +355,88 @@ def test_notebook_reprs_are_small_and_quick():
     assert "<svg" in r._repr_svg_()
     table = structural_report(engine)._repr_html_()
     assert table.startswith("<table>") and "<th style='text-align:left'>MJA</th>" in table
+
+
+def _distance(a, b) -> float:
+    from matplotlib.colors import to_rgb
+
+    return float(np.linalg.norm(np.subtract(to_rgb(a), to_rgb(b))))
+
+
+def test_vectors_stand_out_from_every_link_colour():
+    # the README picture: B3's velocity arrow used to vanish on its green (tab:green) block
+    from mjstruct.plot.drawing import DRIVER_COLOUR, FORCE_COLOURS, GROUP_COLOURS
+
+    scene = scene_at(model_of("kin-radial-engine-5"), 1.2, ("assur", "velocity", "acceleration"))
+    ax = draw_scene(scene)
+    drawn = [a.get_facecolor() for a in artists(ax, "link") if isinstance(a, Polygon)]
+    drawn += [a.get_color() for a in artists(ax, "link") if not isinstance(a, Polygon)]
+    drawn += [a.get_facecolor() for a in artists(ax, "joint") if isinstance(a, Polygon)]
+    assert len(drawn) == 6 + 5  # crank and rods as links, the pistons as their blocks
+    for layer in ("velocity", "acceleration"):
+        quiver = one(ax, layer)
+        face = quiver.get_facecolor()[0]
+        assert min(_distance(face, c) for c in drawn) > 0.3, layer
+        assert _distance(quiver.get_edgecolor()[0], "white") == 0  # a halo
+    vectors = [one(ax, "velocity").get_facecolor()[0], one(ax, "acceleration").get_facecolor()[0]]
+    vectors += list(FORCE_COLOURS.values())
+    for v in vectors:
+        assert min(_distance(v, c) for c in (*GROUP_COLOURS, DRIVER_COLOUR)) > 0.3
+    assert min(_distance(a, b) for i, a in enumerate(vectors) for b in vectors[i + 1 :]) > 0.3
+
+
+def _boxes(ax, *gids):
+    fig = ax.figure
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    return [a.get_window_extent(r) for g in gids for a in artists(ax, g)]
+
+
+def test_scale_bar_and_keys_sit_below_the_mechanism():
+    # four-bar.json: the bar used to lie on O1's ground hatching
+    scene = scene_at(model_of("four-bar"), layers=("velocity", "acceleration", "paths"))
+    ax = draw_scene(scene)
+    mechanism = _boxes(ax, "ground", "link", "joint", "driver", "label", "path", "point")
+    footer = _boxes(ax, "scalebar")
+    footer += [k.text.get_window_extent() for k in artists(ax, "key")]
+    assert len(footer) == 2 + 2 and len(mechanism) > 10
+    top = max(b.y1 for b in footer)
+    assert top < min(b.y0 for b in mechanism)
+    y0 = scene.limits[2]
+    assert scene.footer > 0 and y0 + scene.footer < min(
+        min(z.imag for z in scene.paths[p][:-1]) for p in scene.paths
+    )
+
+
+def test_force_layers_have_one_key_each_and_couples_below():
+    scene = scene_at(
+        model_of("slider-crank-seed000-dynamics"), 1.0, ("loads", "inertia", "reactions"), 10.0
+    )
+    ax = draw_scene(scene)
+    keys = {k.get_gid(): k for k in artists(ax, "key")}
+    assert set(keys) == {"key:loads", "key:inertia", "key:reactions"}
+    for layer in ("loads", "inertia", "reactions"):
+        key, quiver = keys[f"key:{layer}"], one(ax, layer)
+        assert key.text.get_text().startswith(layer)
+        assert _distance(key.text.get_color(), quiver.get_facecolor()[0]) == 0
+    # one scale for every force: the keys have one length
+    assert len({k.U for k in keys.values()}) == 1
+    # couples: an arc at the link, the value in the footer below the drawing
+    couples = artists(ax, "couple")
+    assert {c.get_gid() for c in couples} == {"couple:loads", "couple:inertia"}
+    assert len(artists(ax, "torque")) == len(couples)
+    bottom = min(b.y0 for b in _boxes(ax, "link", "joint", "ground"))
+    assert all(b.y1 < bottom for b in _boxes(ax, "couple"))
+
+
+def test_paths_close_over_a_periodic_cycle():
+    # fourbar-ms4: the crank circle lacked its last segment
+    scene = scene_over_cycle(model_of("fourbar-ms4"), 12, ("paths",), paths=["A"])
+    a = scene.paths["A"]
+    assert len(a) == 13 and a[-1] == a[0]
+    assert len(artists(draw_scene(scene, 3), "path:A")[0].get_xdata()) == 13
+    still = scene_at(model_of("four-bar"), layers=("paths",), paths=["A"])
+    assert still.paths["A"][-1] == still.paths["A"][0]
+    # a slide is not a cycle: its path stays open
+    slide = scene_over_cycle(model_of("slider-crank", ["B"]), 12, ("paths",), paths=["A"])
+    assert len(slide.paths["A"]) == 12

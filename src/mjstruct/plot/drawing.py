@@ -60,8 +60,27 @@ PATH_FRAMES = 180
 LINK_COLOUR = "#34495e"
 FRAME_COLOUR = "0.35"
 DRIVER_COLOUR = "crimson"
-VELOCITY_COLOUR = "tab:green"
-ACCELERATION_COLOUR = "darkorange"
+#: Assur groups: tab10 without its pink and grey (kept apart from the vectors, the frame)
+GROUP_COLOURS = (
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#d62728",
+    "#9467bd",
+    "#8c564b",
+    "#bcbd22",
+    "#17becf",
+)
+#: vectors in colours outside the group palette, with a white halo, so that an arrow
+#: stays visible on a link of any colour
+VELOCITY_COLOUR = "black"
+ACCELERATION_COLOUR = "#e6008a"
+FORCE_COLOURS = {"loads": "#0a3dff", "inertia": "indigo", "reactions": "darkred"}
+HALO = "white"
+#: the vector layers in the order their keys are listed below the drawing
+KEYED = ("velocity", "acceleration", "loads", "inertia", "reactions")
+#: height of a row of the footer (scale bar, keys, couples) over the drawing's width
+ROW = 0.036
 
 
 @dataclass(frozen=True)
@@ -83,6 +102,8 @@ class Scene:
         scale for every force layer).
     decomposition : the Assur decomposition (``assur`` layer).
     forces : force layer -> its arrows and couples (dynamics plug-in).
+    footer : height (length units) of the band below the mechanism that ``limits``
+        keep free for the scale bar, the vector keys and the couples' values.
     """
 
     model: KinematicModel
@@ -96,6 +117,7 @@ class Scene:
     arrow_scale: dict[str, float]
     decomposition: Decomposition | None = None
     forces: dict[str, ForceLayer] = field(default_factory=dict)
+    footer: float = 0.0
 
     @property
     def pin(self) -> float:
@@ -181,10 +203,13 @@ def _scene(
 ) -> Scene:
     m, geom = model.mechanism, model.geometry
     paths: dict[str, ComplexArray] = {}
+    full_turn = cycle is not None and _full_turn(model, cycle)
     if cycle is not None:
         for pid in _path_ids(model, path_ids):
             z = _position(cycle, pid)
-            paths[pid] = np.where(cycle.valid, z, np.nan + 0j)
+            z = np.where(cycle.valid, z, np.nan + 0j)
+            # the sweep leaves out its end point (the start again): close the trace
+            paths[pid] = np.append(z, z[0]) if full_turn and _returns(model, z) else z
     guides: dict[str, tuple[float, float]] = {}
     ok = shown[motion.valid[shown]]
     for j in m.joints:
@@ -244,12 +269,10 @@ def _scene(
     allz = np.concatenate(cloud)
     allz = allz[np.isfinite(allz)]
     pad = 0.12 * model.scale
-    limits = (
-        float(allz.real.min() - pad),
-        float(allz.real.max() + pad),
-        float(allz.imag.min() - pad),
-        float(allz.imag.max() + pad),
-    )
+    x0, x1 = float(allz.real.min() - pad), float(allz.real.max() + pad)
+    rows = _footer_rows(layers, forces, arrow_scale)
+    footer = (rows + 0.6) * ROW * (x1 - x0)
+    limits = (x0, x1, float(allz.imag.min() - pad - footer), float(allz.imag.max() + pad))
     return Scene(
         model,
         motion,
@@ -262,7 +285,41 @@ def _scene(
         arrow_scale,
         decomposition,
         forces,
+        footer,
     )
+
+
+def _footer_rows(
+    layers: tuple[str, ...], forces: dict[str, ForceLayer], arrow_scale: dict[str, float]
+) -> int:
+    """Rows of the footer: keys and couples two to a row beside the scale bar (>= 2)."""
+    slots = len(_keyed(layers, arrow_scale)) + sum(len(f.couples) for f in forces.values())
+    return max(2, -(-slots // 2))
+
+
+def _keyed(layers: tuple[str, ...], arrow_scale: dict[str, float]) -> list[str]:
+    """The vector layers that get a key (those with something to scale)."""
+    scale = {x: arrow_scale.get("force" if x in FORCE_LAYERS else x, 0.0) for x in KEYED}
+    return [x for x in KEYED if x in layers and scale[x] > 0]
+
+
+def _full_turn(model: KinematicModel, cycle: Motion) -> bool:
+    """Whether the cycle's next frame is its first turn again: every driver turns a
+    full turn (revolute drivers, equal steps) and every frame assembles."""
+    if cycle.q.shape[0] < 3 or not cycle.valid.all():
+        return False
+    if any(model.mechanism.joint(d).kind != "R" for d in model.drivers):
+        return False
+    span = np.abs(cycle.q[-1] - cycle.q[0]) + np.abs(cycle.q[1] - cycle.q[0])
+    return bool(np.allclose(span, 2 * np.pi, rtol=1e-9))
+
+
+def _returns(model: KinematicModel, z: ComplexArray) -> bool:
+    """Whether a point's trace comes back to its start after a full turn: the last step
+    is no longer than twice the longest other one (a mechanism that changes branch on
+    the way, period 4π, leaves the trace open rather than drawing a false chord)."""
+    hop = float(np.abs(np.diff(z)).max())
+    return bool(abs(z[0] - z[-1]) <= 2.0 * hop + 1e-9 * model.scale)
 
 
 def _path_ids(model: KinematicModel, ids: Iterable[str] | None) -> list[str]:
@@ -442,13 +499,15 @@ def draw_scene(
                 style="italic",
                 zorder=9,
             )
+        quivers: dict[str, Any] = {}
         for layer, order, colour in (
             ("velocity", 1, VELOCITY_COLOUR),
             ("acceleration", 2, ACCELERATION_COLOUR),
         ):
             if layer in scene.layers:
-                _vectors(ax, scene, k, layer, order, colour)
-        _forces(ax, scene, k)
+                quivers[layer] = _vectors(ax, scene, k, layer, order, colour)
+        quivers.update(_forces(ax, scene, k))
+        _footer(ax, scene, k, quivers)
     else:
         ax.text(
             0.5,
@@ -491,14 +550,11 @@ def _link_colours(scene: Scene) -> dict[str, Any]:
     colours[scene.model.frame] = FRAME_COLOUR
     d = scene.decomposition
     if d is not None:
-        import matplotlib.pyplot as plt
-
-        cmap = plt.get_cmap("tab10")
         for _, _, driven in d.initial:
             colours[driven] = "0.25"
         for g, group in enumerate(d.groups):
             for link in group.links:
-                colours[link] = cmap(g % 10)
+                colours[link] = GROUP_COLOURS[g % len(GROUP_COLOURS)]
     return colours
 
 
@@ -749,16 +805,23 @@ def _labels(ax: Axes, scene: Scene, at: dict[str, complex]) -> None:
         )
 
 
-def _vectors(ax: Axes, scene: Scene, k: int, layer: str, order: int, colour: str) -> None:
+def _vectors(ax: Axes, scene: Scene, k: int, layer: str, order: int, colour: str) -> Any | None:
+    """The velocity or acceleration arrows at frame ``k`` (None when there are none)."""
     sites = _vector_sites(scene.model, scene.motion, order, scene.speed)
     if not sites:
-        return
+        return None
     z = np.array([p[k] for p, _ in sites])
     v = np.array([w[k] for _, w in sites])
     s = scene.arrow_scale.get(layer, 0.0)
     if s <= 0 or not np.isfinite(v).all():
-        return
-    quiver = ax.quiver(
+        return None
+    return _quiver(ax, z, v, s, colour, layer, width=0.004)
+
+
+def _quiver(
+    ax: Axes, z: ComplexArray, v: ComplexArray, s: float, colour: str, gid: str, width: float
+) -> Any:
+    return ax.quiver(
         z.real,
         z.imag,
         v.real,
@@ -767,78 +830,108 @@ def _vectors(ax: Axes, scene: Scene, k: int, layer: str, order: int, colour: str
         scale_units="xy",
         scale=1.0 / s,
         color=colour,
-        width=0.004,
+        edgecolor=HALO,
+        linewidth=0.7,
+        width=width,
         zorder=7,
-        gid=layer,
-    )
-    top = ARROW * scene.model.scale / s
-    key = _nice(top / 2)
-    unit = "units/s" if order == 1 else "units/s²"
-    y = 0.04 if layer == "velocity" else 0.10
-    ax.quiverkey(
-        quiver,
-        0.80,
-        y,
-        key,
-        f"{layer} {key:g} {unit}",
-        labelpos="E",
-        coordinates="axes",
-        fontproperties={"size": 8},
+        gid=gid,
     )
 
 
-FORCE_COLOURS = {"loads": "tab:blue", "inertia": "tab:purple", "reactions": "tab:red"}
-
-
-def _forces(ax: Axes, scene: Scene, k: int) -> None:
-    """Arrows of the force layers on one scale, couples as labelled values."""
+def _forces(ax: Axes, scene: Scene, k: int) -> dict[str, Any]:
+    """Arrows of the force layers on one scale, couples as arcs turning their way."""
     s = scene.arrow_scale.get("force", 0.0)
-    keyed = False
-    for row, layer in enumerate(x for x in FORCE_LAYERS if x in scene.forces):
+    out: dict[str, Any] = {}
+    for layer in (x for x in FORCE_LAYERS if x in scene.forces):
         fl = scene.forces[layer]
         colour = FORCE_COLOURS[layer]
         pts = [(at[k], f[k]) for _, at, f in fl.arrows if np.isfinite(at[k]) and np.isfinite(f[k])]
         if pts and s > 0:
             z = np.array([p for p, _ in pts])
             f = np.array([v for _, v in pts])
-            quiver = ax.quiver(
-                z.real,
-                z.imag,
-                f.real,
-                f.imag,
-                angles="xy",
-                scale_units="xy",
-                scale=1.0 / s,
-                color=colour,
-                width=0.005,
-                zorder=7,
-                gid=layer,
+            out[layer] = _quiver(ax, z, f, s, colour, layer, width=0.005)
+        for _, at, moment in fl.couples:
+            if np.isfinite(at[k]) and np.isfinite(moment[k]) and moment[k] != 0:
+                _turn(ax, scene, complex(at[k]), float(moment[k]), colour, f"torque:{layer}")
+    return out
+
+
+def _turn(ax: Axes, scene: Scene, c: complex, sense: float, colour: str, gid: str) -> None:
+    """A three-quarter arc around ``c`` with its head the way ``sense`` turns."""
+    from matplotlib.patches import FancyArrowPatch
+    from matplotlib.path import Path
+
+    r = 2.6 * scene.pin
+    t = np.linspace(-0.75, 0.75, 24) * np.pi
+    if sense < 0:
+        t = t[::-1]
+    arc = c + r * np.exp(1j * t)
+    ax.add_artist(
+        FancyArrowPatch(
+            path=Path(np.column_stack([arc.real, arc.imag])),
+            arrowstyle="-|>",
+            mutation_scale=9,
+            color=colour,
+            lw=1.4,
+            zorder=7,
+            gid=gid,
+        )
+    )
+
+
+def _footer(ax: Axes, scene: Scene, k: int, quivers: dict[str, Any]) -> None:
+    """Keys of the vector layers and the couples' values, two to a row below the drawing.
+
+    The slots are fixed by the scene (not the frame), so an animation's keys keep
+    their places; a layer with nothing drawn at this frame leaves its slot empty.
+    """
+    x0, x1, y0, _ = scene.limits
+    w = x1 - x0
+    top = y0 + scene.footer - 0.3 * ROW * w
+
+    def slot(i: int) -> tuple[float, float]:
+        return x0 + (0.30 + 0.36 * (i % 2)) * w, top - (i // 2 + 0.5) * ROW * w
+
+    keyed = _keyed(scene.layers, scene.arrow_scale)
+    for i, layer in enumerate(keyed):
+        quiver = quivers.get(layer)
+        if quiver is None:
+            continue
+        force = layer in FORCE_LAYERS
+        s = scene.arrow_scale["force" if force else layer]
+        key = _nice(ARROW * scene.model.scale / s / 2)
+        unit = "units" if force else ("units/s" if layer == "velocity" else "units/s²")
+        x, y = slot(i)
+        qk = ax.quiverkey(
+            quiver,
+            x,
+            y,
+            key,
+            f"{layer} {key:g} {unit}",
+            labelpos="E",
+            coordinates="data",
+            labelcolor=quiver.get_facecolor()[0],
+            fontproperties={"size": 8},
+        )
+        qk.set_gid(f"key:{layer}")
+    i = len(keyed)
+    for layer in (x for x in FORCE_LAYERS if x in scene.forces):
+        for label, at, moment in scene.forces[layer].couples:
+            x, y = slot(i)
+            i += 1
+            if not (np.isfinite(at[k]) and np.isfinite(moment[k])):
+                continue
+            ax.text(
+                x,
+                y,
+                f"{label} = {moment[k] + 0.0:.3g}",
+                ha="left",
+                va="center",
+                fontsize=8,
+                color=FORCE_COLOURS[layer],
+                zorder=9,
+                gid=f"couple:{layer}",
             )
-            if not keyed:
-                key = _nice(ARROW * scene.model.scale / s / 2)
-                ax.quiverkey(
-                    quiver,
-                    0.80,
-                    0.16,
-                    key,
-                    f"force {key:g} units",
-                    labelpos="E",
-                    coordinates="axes",
-                    fontproperties={"size": 8},
-                )
-                keyed = True
-        for n, (label, at, moment) in enumerate(fl.couples):
-            if np.isfinite(at[k]) and np.isfinite(moment[k]):
-                ax.annotate(
-                    f"{label} = {moment[k] + 0.0:.3g}",
-                    (at[k].real, at[k].imag),
-                    xytext=(8, -12 - 10 * (n + row)),
-                    textcoords="offset points",
-                    fontsize=7,
-                    color=colour,
-                    zorder=9,
-                    gid=f"couple:{layer}",
-                )
 
 
 def _nice(x: float) -> float:
@@ -853,10 +946,14 @@ def _nice(x: float) -> float:
 
 
 def _scale_bar(ax: Axes, scene: Scene) -> None:
+    """A bar of a round length at the left of the footer, clear of the mechanism."""
     x0, x1, y0, y1 = scene.limits
     length = _nice(0.25 * scene.model.scale)
-    xa, ya = x0 + 0.04 * (x1 - x0), y0 + 0.05 * (y1 - y0)
-    tick = 0.01 * (y1 - y0)
+    w = x1 - x0
+    xa = x0 + 0.04 * w
+    # the footer's middle; without a footer (a scene built by hand) the lower left
+    ya = y0 + (scene.footer / 2 if scene.footer > 0 else 0.05 * (y1 - y0)) - 0.2 * ROW * w
+    tick = 0.15 * ROW * w
     ax.plot(
         [xa, xa + length, xa + length, xa + length, xa, xa],
         [ya, ya, ya + tick, ya - tick, ya - tick, ya + tick],
@@ -864,7 +961,15 @@ def _scale_bar(ax: Axes, scene: Scene) -> None:
         lw=1.2,
         gid="scalebar",
     )
-    ax.text(xa + length / 2, ya + 2 * tick, f"{length:g}", ha="center", va="bottom", fontsize=8)
+    ax.text(
+        xa + length / 2,
+        ya + 1.5 * tick,
+        f"{length:g}",
+        ha="center",
+        va="bottom",
+        fontsize=8,
+        gid="scalebar",
+    )
 
 
 def _branch_marks(ax: Axes, scene: Scene, k: int, at: dict[str, complex]) -> None:

@@ -96,6 +96,7 @@ def kinematics_svg(result: Any) -> str:
         base.guides,
         (float(x0), float(x1), float(y0), float(y1)),
         base.arrow_scale,
+        footer=base.footer,
     )
     fig = _figure()
     draw_scene(scene, ax=fig.add_subplot())
