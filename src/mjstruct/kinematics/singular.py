@@ -38,6 +38,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -50,6 +51,8 @@ from mjstruct.errors import MechanismError
 from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
 from mjstruct.kinematics.fourbar import FourBar, fourbar_theory
 from mjstruct.kinematics.singular_curve import (
+    MAX_STEP,
+    Bifurcation,
     Branch,
     ClosureEquations,
     point_on_step,
@@ -67,6 +70,8 @@ FOLD_TOL = 1e-9
 #: a tangent component below this fraction of its largest value along the branch is
 #: zero at that station (a station lying exactly on a singular position)
 ROOT_AT_STATION = 1e-12
+#: two joints closer than this (normalised) all along a fold branch sit on each other
+COINCIDE_ALONG = 1e-9
 #: three centres are in line when the triangle's sine is below this
 COLLINEAR_TOL = 1e-7
 
@@ -149,6 +154,37 @@ class SingularPosition:
 
 
 @dataclass(frozen=True)
+class FoldArc:
+    """A stretch of a branch along which a minor vanishes identically (a fold arc).
+
+    Attributes
+    ----------
+    kind : ``output_extreme`` (the output dwells while the input moves: MS2) or
+        ``input_limit`` (the input is locked while the rest moves: MS5).
+    q_from, q_to : the input's range over the arc (equal for a locked input), cut at
+        the change points on the branch, where the linkage can enter or leave it;
+        ``q_from`` in [q_ref, q_ref + 2 pi) for a revolute driver, ``q_to >= q_from``.
+    joints : ids of the joints that sit on another along the arc (file order).
+    output_angle : the dwell angle of the output (``None`` for a locked input).
+    """
+
+    kind: str
+    q_from: float
+    q_to: float
+    joints: tuple[str, ...]
+    output_angle: float | None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kind": self.kind,
+            "q_from": _num(self.q_from),
+            "q_to": _num(self.q_to),
+            "joints": list(self.joints),
+            "output_angle": _num(self.output_angle),
+        }
+
+
+@dataclass(frozen=True)
 class InputRange:
     """Where the input can be: a full turn, or increasing ``[q_from, q_to]`` intervals."""
 
@@ -170,6 +206,7 @@ class SingularAnalysis:
     branches: int
     revolute: bool = True
     fourbar_output: str | None = None
+    fold_arcs: tuple[FoldArc, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (no NaN: missing numbers are null)."""
@@ -194,6 +231,7 @@ class SingularAnalysis:
                 "intervals": [[_num(a), _num(b)] for a, b in self.input_range.intervals],
             },
             "fourbar": fb,
+            "fold_arcs": [a.to_dict() for a in self.fold_arcs],
             "clearance": _num(self.clearance),
             "warnings": list(self.warnings),
         }
@@ -357,6 +395,7 @@ def singular_analysis(
         return q_ref + (0.0 if r > 2 * math.pi - 1e-12 else r)
 
     found: list[tuple[str, FloatArray]] = [("change_point", b.x) for b in bifs]
+    fold_arcs: list[FoldArc] = []
     q_spans: list[tuple[float, float, bool]] = []
     for br in branches:
         qs = np.array([eq.input(p)[0] for p in br.x])
@@ -366,7 +405,9 @@ def singular_analysis(
         fold_in = bool(np.all(np.abs(dq) < FOLD_TOL))
         fold_out = bool(np.all(np.abs(do) < FOLD_TOL))
         if fold_in or fold_out:
-            warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0]))))
+            same = _coinciding(eq, br)
+            warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0])), same))
+            fold_arcs += _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
         for kind, comp, fold, grad in (
             ("input_limit", dq, fold_in, eq.input),
             ("output_extreme", do, fold_out, eq.output),
@@ -425,6 +466,7 @@ def singular_analysis(
         len(branches),
         revolute,
         fb_out,
+        tuple(sorted(fold_arcs, key=lambda a: (a.q_from, a.q_to, a.kind))),
     )
 
 
@@ -489,16 +531,80 @@ def _tidy(v: float) -> float:
     return 0.0 if abs(v) < 1e-9 else v
 
 
-def _fold_warning(eq: ClosureEquations, br: Branch, fold_in: bool, q0: float) -> str:
-    m = eq.mechanism
-    ids = [j.id for j in m.joints]
+def _coinciding(eq: ClosureEquations, br: Branch) -> list[tuple[str, str]]:
+    """Pairs of joints (file order) that coincide all along a branch."""
+    ids = [j.id for j in eq.mechanism.joints]
     same = []
     for i, a in enumerate(ids):
         for b in ids[i + 1 :]:
             d = max(abs(eq.joint_position(p, a) - eq.joint_position(p, b)) for p in br.x[::5])
-            if d < 1e-9:
-                same.append(f"{b} sits on {a}")
-        del a
+            if d < COINCIDE_ALONG:
+                same.append((a, b))
+    return same
+
+
+def _fold_arcs(
+    eq: ClosureEquations,
+    br: Branch,
+    fold_in: bool,
+    qs: FloatArray,
+    bifs: Sequence[Bifurcation],
+    same: list[tuple[str, str]],
+    q_ref: float,
+    revolute: bool,
+) -> list[FoldArc]:
+    """The fold arcs of a fold branch, cut at the change points on it."""
+    ids = {j for pair in same for j in pair}
+    joints = tuple(j.id for j in eq.mechanism.joints if j.id in ids)
+    two_pi = 2 * math.pi
+    if fold_in:
+        q = float(qs[0])
+        if revolute:
+            q = q_ref + _wrap_rel(q - q_ref)
+        return [FoldArc("input_limit", q, q, joints, None)]
+    dwell = float(math.remainder(eq.output_angle(br.x[0]), two_pi))
+    lo, hi = float(qs.min()), float(qs.max())
+    # change points on this branch: within a continuation step of one of its stations
+    cuts = sorted(
+        float(eq.input(b.x)[0])
+        for b in bifs
+        if min(float(np.linalg.norm(wrap_delta(eq, p - b.x))) for p in br.x) < MAX_STEP
+    )
+    if not revolute:
+        inner = [c for c in cuts if lo < c < hi]
+        ends = [lo, *inner, hi]
+        return [
+            FoldArc("output_extreme", a, b, joints, dwell) for a, b in itertools.pairwise(ends)
+        ]
+    rel: list[float] = []
+    for c in sorted(_wrap_rel(c - q_ref) for c in cuts):
+        if not rel or c - rel[-1] > 1e-9:  # a change point met by several branches
+            rel.append(c)
+    if hi - lo >= two_pi - 1e-9:  # the branch winds once: arcs between its change points
+        if not rel:
+            return [FoldArc("output_extreme", q_ref, q_ref + two_pi, joints, dwell)]
+        ends = [*rel, rel[0] + two_pi]
+    else:
+        base = _wrap_rel(lo - q_ref)
+        inner = sorted(c if c >= base else c + two_pi for c in rel)
+        ends = [base, *(c for c in inner if base < c < base + hi - lo), base + hi - lo]
+    return [
+        FoldArc("output_extreme", q_ref + a, q_ref + b, joints, dwell)
+        for a, b in itertools.pairwise(ends)
+        if b - a > 1e-12
+    ]
+
+
+def _wrap_rel(d: float) -> float:
+    """``d`` modulo 2 pi in [0, 2 pi), round-off just below 2 pi taken as 0."""
+    r = d % (2 * math.pi)
+    return 0.0 if r > 2 * math.pi - 1e-12 else r
+
+
+def _fold_warning(
+    eq: ClosureEquations, br: Branch, fold_in: bool, q0: float, pairs: list[tuple[str, str]]
+) -> str:
+    same = [f"{b} sits on {a}" for a, b in pairs]
     what = " and ".join(same) if same else "no two joints coincide"
     if fold_in:
         return (
@@ -681,6 +787,14 @@ def render(r: SingularAnalysis) -> str:
             )
         if p.zone is not None and not p.zone:
             lines.append("      zone: none (no two moving links in line)")
+    for a in r.fold_arcs:
+        what = (
+            "input locked"
+            if a.kind == "input_limit"
+            else f"output dwells at {_tidy(math.degrees(a.output_angle or 0.0)):.6f} deg"
+        )
+        span = f"[{qs(a.q_from)}, {qs(a.q_to)}]" + (f" {unit}" if unit else "")
+        lines.append(f"fold arc: {what} for q in {span}, {' '.join(a.joints) or '-'} coinciding")
     if r.clearance is not None:
         lines.append(f"clearance D = {r.clearance:g} (total radial, split evenly over the pins)")
     lines += [f"warning: {w}" for w in r.warnings]
