@@ -361,3 +361,25 @@ def test_longest_contour_against_networkx_shortest_cycles(internal):
             expected = max(expected, (nx.shortest_path_length(g, u, v) + 1) // 2)
         g.add_edge(u, v)
     assert longest_contour(internal) == expected
+
+
+def test_solving_order_does_not_depend_on_networkx_iteration_order(monkeypatch):
+    """The groups' order is fixed by construction: the same when networkx yields the
+    strongly connected components in another order, and dependencies come first."""
+    import networkx as nx
+
+    from mjstruct.structure.assur.decomposition import _dependency_order
+    from mjstruct.testing import random_mechanism
+
+    out = [[1], [2], [1], [0, 4], [3], []]
+    order = _dependency_order(out, skip=5)
+    assert order == [[1, 2], [0], [3, 4]]
+    place = {v: k for k, comp in enumerate(order) for v in comp}
+    assert all(place[w] <= place[v] for v, heads in enumerate(out[:5]) for w in heads if w != 5)
+
+    mechanisms = [random_mechanism(g, seed=s) for g in (3, 5, 8) for s in range(5)]
+    before = [assur_groups(m) for m in mechanisms]
+    scc = nx.strongly_connected_components
+    monkeypatch.setattr(nx, "strongly_connected_components", lambda g: reversed(list(scc(g))))
+    assert _dependency_order(out, skip=5) == order
+    assert [assur_groups(m) for m in mechanisms] == before

@@ -210,7 +210,13 @@ def _solve_cluster(
 
 
 def _dependency_order(out: Sequence[Sequence[int]], skip: int) -> list[list[int]]:
-    """Strongly connected components, dependencies (sinks) first; vertex ``skip`` ignored."""
+    """Strongly connected components, dependencies (sinks) first; vertex ``skip`` ignored.
+
+    The order is fixed here, not by a library's iteration order: components in the
+    order a depth-first search completes them (:func:`_postorder`; a component is
+    complete when the last of its vertices is), which puts every component after
+    those it depends on.  Each component's vertices are listed in increasing order.
+    """
     import networkx as nx  # imported here: the structural report does without it
 
     g = nx.DiGraph()
@@ -218,8 +224,36 @@ def _dependency_order(out: Sequence[Sequence[int]], skip: int) -> list[list[int]
     g.add_edges_from(
         (v, w) for v, heads in enumerate(out) if v != skip for w in heads if w != skip
     )
-    # networkx yields the components of its Tarjan search in reverse topological order
-    return [list(c) for c in nx.strongly_connected_components(g)]
+    done = {v: k for k, v in enumerate(_postorder(out, skip))}
+    components = [sorted(c) for c in nx.strongly_connected_components(g)]
+    return sorted(components, key=lambda c: max(done[v] for v in c))
+
+
+def _postorder(out: Sequence[Sequence[int]], skip: int) -> list[int]:
+    """Vertices in the order a depth-first search completes them: roots in increasing
+    order, successors in the order of ``out``; vertex ``skip`` ignored.
+
+    >>> _postorder([[1], [2], [1], []], skip=3)
+    [2, 1, 0]
+    """
+    done: list[int] = []
+    seen: set[int] = set()
+    for root in range(len(out)):
+        if root == skip or root in seen:
+            continue
+        seen.add(root)
+        stack = [(root, iter(out[root]))]
+        while stack:
+            v, heads = stack[-1]
+            for w in heads:
+                if w != skip and w not in seen:
+                    seen.add(w)
+                    stack.append((w, iter(out[w])))
+                    break
+            else:
+                stack.pop()
+                done.append(v)
+    return done
 
 
 def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decomposition:
