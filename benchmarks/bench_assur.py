@@ -1,9 +1,9 @@
-"""Benchmark: Assur decomposition and pebble-game rank against the issue's budgets.
+"""Benchmark: Assur decomposition and pebble-game rank against the project's time budgets.
 
-Prints, for each case, the median wall time over several runs, the budget from issue 4
-and the ratio median / budget (< 1 is within budget), and next to the pebble game the
-numeric rank of the constraint Jacobian at random geometry (numpy SVD) on the same
-chain, measured in the same run.
+Prints, for each case, the median wall time over several runs, its budget (the targets
+in docs/assur.md) and the ratio median / budget (< 1 is within budget), and next to the
+pebble game the numeric rank of the constraint Jacobian at random geometry (numpy SVD)
+on the same chain, measured in the same run.
 
 Run: ``python benchmarks/bench_assur.py`` (``--no-numeric`` skips the slow SVD at 1000
 links).

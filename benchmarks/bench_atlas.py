@@ -1,4 +1,8 @@
-"""Atlas enumeration and canonical-code timings against the issue's targets.
+"""Atlas enumeration and canonical-code timings against the project's time targets.
+
+The targets and the expected counts (the published simple-joint counts, see
+docs/synthesis.md) are those of the timing table in docs/synthesis.md; the 24-link chain
+is example 5 of [MJ structure 2020] (docs/references.md).
 
 Run: ``python benchmarks/bench_atlas.py [--repeat R] [--pyslvs PYTHON]``.  Prints the
 median wall time of each case, the count found, and the ratio to the target; with

@@ -1,4 +1,4 @@
-"""Assur-group decomposition: the issue's cases, and properties checked numerically
+"""Assur-group decomposition: worked cases, and properties checked numerically
 (each group has zero DOF with its external pins fixed and no smaller part does)."""
 
 from __future__ import annotations

@@ -1,8 +1,10 @@
 """The documentation stands alone: no links out of the repository, no broken links.
 
-README.md, docs/*.md and the examples' README are read by people who have only the
-repository. A link must resolve to a file inside it, and the prose must not lean on
-material the repository does not contain (project-internal specification paths,
+README.md, docs/*.md (with the API reference pages docs/api/*.md and the markdown of the
+notebook tour), the examples' README, the docstrings the API reference renders and the
+benchmarks' docstrings are read by people who have only the repository. A link must
+resolve to a file inside it, and the prose must not lean on material the repository
+does not contain (project-internal specification paths, issues, task descriptions,
 source papers named by an internal file number instead of by author, title, journal
 and year).
 """
@@ -16,8 +18,16 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGES = sorted(
-    [ROOT / "README.md", ROOT / "catalogs/examples/README.md", *(ROOT / "docs").glob("*.md")]
+    [
+        ROOT / "README.md",
+        ROOT / "catalogs/examples/README.md",
+        *(ROOT / "docs").glob("*.md"),
+        *(ROOT / "docs/api").glob("*.md"),
+    ]
 )
+NOTEBOOK = ROOT / "docs/tour.ipynb"
+# benchmarks whose wording is still being reworded with the dynamics work
+PENDING = {"bench_dynamics.py", "dynamics_error_vs_time.py", "dynamics_run_up.py"}
 
 # [text](target) and ![alt](target); the target ends at whitespace or ')'.
 LINK = re.compile(r"!?\[[^\]]*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
@@ -25,11 +35,13 @@ LINK = re.compile(r"!?\[[^\]]*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
 FORBIDDEN = {
     r"\.\./shared": "a path outside the repository",
     r"shared/spec": "the internal specification",
-    r"(?i)\bseed[ -]?0\d\d\b(?!\S*\.json)": "a source paper by internal number",
+    # (shipped file names such as seed002-ex1-needle-drive.json or "class-iv-seed003" pass)
+    r"(?i)(?<![-\"/\w])seed[ -]?0\d\d\b(?![-\"]|\S*\.json)": "a source paper by internal number",
     r"(?i)\bthe seed\b|\bseed's\b": "a source paper by internal name",
     r"(?i)\bthe brief\b": "an internal task description",
     r"(?i)\bfrom the issue\b|\bthe issue's\b": "an internal issue",
-    r"(?i)\bnamed by the user\b": "an internal request",
+    r"(?i)\bissues? #?\d+\b": "an internal issue by number",
+    r"(?i)\bnamed by the user\b|\bthe user asked\b": "an internal request",
 }
 
 
@@ -52,11 +64,69 @@ def test_pages_found() -> None:
 
 @pytest.mark.parametrize("page", PAGES, ids=_rel)
 def test_no_reference_to_material_outside_the_repository(page: Path) -> None:
-    text = page.read_text(encoding="utf-8")
-    hits = [
-        f"{_rel(page)}:{text.count(chr(10), 0, m.start()) + 1}: {why}: {m.group(0)!r}"
+    hits = _hits(_rel(page), page.read_text(encoding="utf-8"))
+    assert not hits, "\n".join(hits)
+
+
+def _hits(name: str, text: str) -> list[str]:
+    return [
+        f"{name}:{text.count(chr(10), 0, m.start()) + 1}: {why}: {m.group(0)!r}"
         for pattern, why in FORBIDDEN.items()
         for m in re.finditer(pattern, text)
+    ]
+
+
+def test_notebook_markdown_stands_alone() -> None:
+    import json
+
+    cells = json.loads(NOTEBOOK.read_text(encoding="utf-8"))["cells"]
+    markdown = [c for c in cells if c["cell_type"] == "markdown"]
+    assert markdown
+    hits = [
+        hit
+        for k, cell in enumerate(markdown)
+        for hit in _hits(f"{_rel(NOTEBOOK)} markdown cell {k}", "".join(cell["source"]))
+    ]
+    assert not hits, "\n".join(hits)
+
+
+def _docstrings(path: Path) -> str:
+    """All docstrings of a Python file (module, classes, functions), one per paragraph."""
+    import ast
+
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    nodes = [
+        n
+        for n in ast.walk(tree)
+        if isinstance(n, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
+    ]
+    return "\n\n".join(filter(None, (ast.get_docstring(n) for n in nodes)))
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        pytest.param(
+            p,
+            marks=[pytest.mark.xfail(reason="reworded with the dynamics work")]
+            if p.name in PENDING
+            else [],
+        )
+        for p in sorted((ROOT / "benchmarks").glob("*.py"))
+    ],
+    ids=lambda p: p.name,
+)
+def test_benchmark_docstrings_stand_alone(path: Path) -> None:
+    hits = _hits(_rel(path), _docstrings(path))
+    assert not hits, "\n".join(hits)
+
+
+def test_api_reference_docstrings_stand_alone() -> None:
+    """The module, class and function docstrings mkdocstrings renders into docs/api."""
+    hits = [
+        hit
+        for path in sorted((ROOT / "src/mjstruct").rglob("*.py"))
+        for hit in _hits(_rel(path), _docstrings(path))
     ]
     assert not hits, "\n".join(hits)
 
@@ -79,7 +149,8 @@ def test_link_checker_catches_what_it_should(tmp_path: Path) -> None:
     # the patterns must match the defects they exist for, and spare file names
     text = (
         "see [spec](../shared/spec/05-contract.md), seed 002 and Seed-003; "
-        "the seed's table; ![fig](img/x.png) and [w](https://example.org)"
+        "the seed's table; ![fig](img/x.png) and [w](https://example.org); "
+        "the budget from issue 4"
     )
     assert _links(text) == ["../shared/spec/05-contract.md", "img/x.png", "https://example.org"]
     found = {why for pattern, why in FORBIDDEN.items() if re.search(pattern, text)}
@@ -88,8 +159,12 @@ def test_link_checker_catches_what_it_should(tmp_path: Path) -> None:
         "the internal specification",
         "a source paper by internal number",
         "a source paper by internal name",
+        "an internal issue by number",
     }
-    clean = "catalogs/examples/seed002-ex1-needle-drive.json, class-iv-seed003.json, seeded"
+    clean = (
+        "catalogs/examples/seed002-ex1-needle-drive.json, class-iv-seed003.json, seeded, "
+        'example_path("class-iv-seed003"), example_path("seed002-ex3-excavator")'
+    )
     assert not any(re.search(pattern, clean) for pattern in FORBIDDEN)
     assert _is_external("https://example.org") and not _is_external("docs/contract.md")
 
