@@ -70,6 +70,8 @@ class FourBar:
         output; ``None`` for a double-crank.
     time_ratio : crank angle of the slower stroke over the faster one
         (crank-rocker only, per circuit), else ``None``.
+    notes : why a number is missing where a reader would expect one (a crank-rocker
+        whose folded dead point is a whole fold arc has no time ratio).
     """
 
     MS: tuple[float, float, float]
@@ -80,6 +82,21 @@ class FourBar:
     input_intervals: tuple[tuple[float, float], ...]
     swing: float | None
     time_ratio: float | None
+    notes: tuple[str, ...] = ()
+
+
+def _acos(c: float) -> float:
+    """``acos`` with a cosine within TIE of +-1 taken as +-1 exactly.
+
+    Near +-1 acos turns a rounding error e of the lengths into sqrt(e) (1e-16 into
+    1e-8 rad); within TIE the four-bar is classified as a change-point four-bar
+    (system (4)), so its angles are those of the exact change point.
+    """
+    if abs(c - 1.0) <= TIE:
+        return 0.0
+    if abs(c + 1.0) <= TIE:
+        return math.pi
+    return math.acos(max(-1.0, min(1.0, c)))
 
 
 def _cos_window(lo: float, hi: float) -> tuple[tuple[float, float], ...]:
@@ -171,8 +188,9 @@ def fourbar_theory(P1: float, P2: float, P3: float) -> FourBar:
         swing = theta_arcs[1][1] - theta_arcs[1][0]
 
     time_ratio = None
+    notes: tuple[str, ...] = ()
     if motion == "crank-rocker":
-        th_s, th_f = math.acos(max(-1.0, min(1.0, d_hi))), math.acos(max(-1.0, min(1.0, d_lo)))
+        th_s, th_f = _acos(d_hi), _acos(d_lo)
         b_s = 1 + p3 * complex(math.cos(th_s), math.sin(th_s))  # input along the coupler
         b_f = 1 + p3 * complex(math.cos(th_f), math.sin(th_f))  # input folded on it
         phi_s = math.atan2(b_s.imag, b_s.real)
@@ -181,7 +199,16 @@ def fourbar_theory(P1: float, P2: float, P3: float) -> FourBar:
             d = (phi_f - phi_s) % (2 * math.pi)
             slow, fast = max(d, 2 * math.pi - d), min(d, 2 * math.pi - d)
             time_ratio = round(slow / fast, 12) if fast > 0 else None
-    return FourBar((p1, p2, p3), grashof, motion, system4, full_in, intervals, swing, time_ratio)
+        else:
+            # |O1 B| = |P2 - P1| = 0 folded: B sits on O1 for every input angle (MS2)
+            notes = (
+                "fourbar: time_ratio is null: the folded dead point is not a point (P1 = P2 "
+                "and P3 = 1, so B sits on O1 for every input angle: the output dwells along "
+                "a fold arc), and the return stroke has no end",
+            )
+    return FourBar(
+        (p1, p2, p3), grashof, motion, system4, full_in, intervals, swing, time_ratio, notes
+    )
 
 
 @dataclass(frozen=True)
@@ -223,7 +250,7 @@ def fourbar_singular_angles(P1: float, P2: float, P3: float) -> FourBarSingularA
         (1 + p1 * p1 - (p2 - p3) ** 2) / (2 * p1),
     ):
         if -1.0 - TIE <= c <= 1.0 + TIE:
-            a = math.acos(max(-1.0, min(1.0, c)))
+            a = _acos(c)
             limits += [a, (2 * math.pi - a) % (2 * math.pi)]
     extremes: list[float] = []
     for d in (
@@ -231,7 +258,7 @@ def fourbar_singular_angles(P1: float, P2: float, P3: float) -> FourBarSingularA
         ((p1 - p2) ** 2 - 1 - p3 * p3) / (2 * p3),
     ):
         if -1.0 - TIE <= d <= 1.0 + TIE:
-            t = math.acos(max(-1.0, min(1.0, d)))
+            t = _acos(d)
             extremes += [t, (2 * math.pi - t) % (2 * math.pi)]
 
     def clean(xs: list[float], drop: list[float]) -> tuple[float, ...]:

@@ -371,7 +371,7 @@ def singular_analysis(
             )
         fb = fourbar_theory(l1 / l0, l2 / l0, l3 / l0)
     branches, bifs = trace_component(eq, eq.reference())
-    warnings: list[str] = []
+    warnings: list[str] = [] if fb is None else list(fb.notes)
     fb_links = fourbar_links(m, eq) if fb is not None else None
     fb_out = None if fb_links is None else fb_links[2]
     if fb_out is not None and fb_out != eq.output_link:
