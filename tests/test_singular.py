@@ -15,7 +15,7 @@ from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, read_mechanism
-from mjstruct.kinematics.fourbar import fourbar_singular_angles, fourbar_theory
+from mjstruct.kinematics.fourbar import fourbar_singular_angles
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.singular import classify_singular_frames, singular_analysis
 
@@ -134,19 +134,37 @@ def fourbar_file(P, phi=1.0, upper=True, rot=0.0, shift=0j, scale=1.0):
     )
 
 
-def _sample(rng, motion):
-    """Lengths of a random four-bar with the given motion, and an assembling phi."""
+def _motion_by_grashof(P):
+    """The motion by the Grashof inequality and which link is shortest, written out:
+    non-Grashof (s + l > p + q) is a triple-rocker; otherwise the shortest link turns
+    fully relative to both neighbours, so a shortest frame gives a double-crank, a
+    shortest input a crank-rocker, a shortest output a rocker-crank and a shortest
+    coupler a double-rocker."""
+    lengths = {"frame": 1.0, "input": P[0], "coupler": P[1], "output": P[2]}
+    v = sorted(lengths.values())
+    if v[0] + v[3] > v[1] + v[2]:
+        return "triple-rocker"
+    shortest = min(lengths, key=lengths.get)
+    return {
+        "frame": "double-crank",
+        "input": "crank-rocker",
+        "output": "rocker-crank",
+        "coupler": "double-rocker",
+    }[shortest]
+
+
+def _sample(rng, motion, gap):
+    """Lengths of a random four-bar with the given motion whose distance from the
+    change-point condition (|s + l - p - q|) lies in ``gap``, and an assembling phi."""
     while True:
         P = rng.uniform(0.2, 2.5, size=3)
-        try:
-            fb = fourbar_theory(*P)
-        except MechanismError:  # the loop does not close
-            continue
-        if fb.motion != motion or fb.system4:
-            continue
         lengths = sorted([1.0, *P])
-        if min(abs(lengths[0] + lengths[3] - lengths[1] - lengths[2]), 1) < 0.05:
-            continue  # too close to a change point for a coarse check
+        if not gap[0] <= abs(lengths[0] + lengths[3] - lengths[1] - lengths[2]) < gap[1]:
+            continue
+        if lengths[1] - lengths[0] < 0.02 or lengths[3] >= sum(lengths[:3]) - 0.02:
+            continue  # a tie of the shortest links, or a loop that barely closes
+        if _motion_by_grashof(P) != motion:
+            continue
         for phi in rng.uniform(0, TWO_PI, size=20):
             d = abs(1 - P[0] * cmath.exp(1j * phi))
             if abs(P[1] - P[2]) + 0.02 < d < P[1] + P[2] - 0.02:
@@ -157,13 +175,15 @@ MOTIONS = ["crank-rocker", "double-crank", "double-rocker", "triple-rocker", "ro
 
 
 @pytest.mark.parametrize("motion", MOTIONS)
-def test_random_fourbars_agree_with_closed_form_and_dense_sweep(motion):
-    rng = np.random.default_rng(MOTIONS.index(motion) + 11)
+@pytest.mark.parametrize("gap", [(0.05, 10.0), (2e-3, 2e-2)], ids=["generic", "near-change"])
+def test_random_fourbars_agree_with_closed_form_and_dense_sweep(motion, gap):
+    rng = np.random.default_rng(MOTIONS.index(motion) + (11 if gap[0] > 0.01 else 57))
     for _ in range(2):
-        P, phi = _sample(rng, motion)
+        P, phi = _sample(rng, motion, gap)
         m = fourbar_file(P, phi)
         r = singular_analysis(m)
         assert r.fourbar.motion == motion
+        assert r.fourbar.grashof == (motion != "triple-rocker")
         closed = fourbar_singular_angles(*P)
         lim = _kinds(r, "input_limit")
         ext = _kinds(r, "output_extreme")
@@ -175,40 +195,52 @@ def test_random_fourbars_agree_with_closed_form_and_dense_sweep(motion):
         for p in ext:
             assert min(_mod(p.output_angle, t + math.pi) for t in closed.output_extremes) < 1e-9
             assert p.collinear == ("O1", "A", "B")
-        one_circuit = not fourbar_theory(*P).grashof
+        one_circuit = motion == "triple-rocker"
         n_lim, n_ext = len(closed.input_limits), len(closed.output_extremes)
         assert len(lim) == (n_lim if one_circuit else n_lim // 2)
         assert len(ext) == (n_ext if one_circuit else n_ext // 2)
         assert r.input_range.full_turn == (motion in ("crank-rocker", "double-crank"))
-        _check_against_sweep(m, r)
+        _check_both_ways(P, phi, r, frames=4000 if gap[0] > 0.01 else 12000)
 
 
-def _check_against_sweep(m, r, frames=3000):
-    """Extremes where the model's output velocity analog changes sign; input limits
-    where its frames stop assembling (both to the grid's spacing)."""
-    model = KinematicModel.build(m)
-    if r.input_range.full_turn:
-        q = model.sweep(frames)[:, 0]
-    else:
-        (lo, hi), *_ = r.input_range.intervals
-        q = np.linspace(lo - 0.05, hi + 0.05, frames)
-    mo = model.motion(q, order=1)
-    sig = mo.angle(r.output)[1]
-    ok = mo.valid
+def _circuit_sign(P, mo):
+    """Sign of a joint angle that never passes 0 or pi on a circuit of a Grashof
+    four-bar: at a joint of the link opposite the shortest one, not shared with the
+    shortest (links 0 frame, 1 input, 2 coupler, 3 output around the loop)."""
+    s = int(np.argmin([1.0, *P]))
+    c = (s + 2) % 4
+    a = (c + 1) % 4 if (c + 1) % 4 != s else (c + 3) % 4
+    return np.sign(np.sin(mo.angle(str(a))[0] - mo.angle(str(c))[0]))
+
+
+def _check_both_ways(P, phi, r, frames):
+    """Every listed output extreme is a sign flip of the model's output analog in a
+    dense sweep, and every flip on the traced curve is listed (same q to two grid
+    steps, same output angle).  Both assembly modes are swept; on a Grashof four-bar
+    the traced curve is the reference's circuit, told by :func:`_circuit_sign`."""
+    q = phi + np.linspace(0.0, TWO_PI, frames)
     step = float(q[1] - q[0])
-    flips = [
-        0.5 * (q[i] + q[i + 1])
-        for i in range(len(q) - 1)
-        if ok[i] and ok[i + 1] and sig[i] * sig[i + 1] < 0
-    ]
-    edges = [q[i] for i in range(len(q) - 1) if ok[i] != ok[i + 1]]
-    # the model sweeps one assembly mode: every flip it sees is a listed extreme
-    ext = [p.q for p in _kinds(r, "output_extreme")]
-    for f in flips:
-        assert min(_mod(f, e) for e in ext) < 2 * step
-    lim = [p.q for p in _kinds(r, "input_limit")]
-    for e in edges:
-        assert min(_mod(e, x) for x in lim) < 2 * step
+    ref = _circuit_sign(P, KinematicModel.build(fourbar_file(P, phi)).motion([phi], 0))[0]
+    flips = []  # (q, output angle, on the traced curve)
+    for upper in (True, False):
+        mo = KinematicModel.build(fourbar_file(P, phi, upper=upper)).motion(q, order=1)
+        out, sig = mo.angle(r.output)[:2]
+        ok = mo.valid
+        circ = _circuit_sign(P, mo)
+        for i in np.nonzero(ok[:-1] & ok[1:] & (sig[:-1] * sig[1:] < 0))[0]:
+            on = r.fourbar.motion == "triple-rocker" or circ[i] == ref
+            flips.append((0.5 * (q[i] + q[i + 1]), out[i], on))
+    ext = _kinds(r, "output_extreme")
+    # not vacuous: a rocking output has extremes, and on a Grashof four-bar the other
+    # circuit's flips are seen and left out
+    rocks = r.fourbar.motion in ("crank-rocker", "double-rocker", "triple-rocker")
+    assert bool(ext) == rocks and bool([f for f in flips if f[2]]) == rocks
+    assert bool([f for f in flips if not f[2]]) == (rocks and r.fourbar.grashof)
+    for p in ext:  # listed -> seen
+        assert any(_mod(f, p.q) < 2 * step and _mod(o, p.output_angle) < 1e-3 for f, o, _ in flips)
+    for f, o, on in flips:  # seen on the traced curve -> listed, and only there
+        listed = any(_mod(f, p.q) < 2 * step and _mod(o, p.output_angle) < 1e-3 for p in ext)
+        assert listed == on
 
 
 # ---------------------------------------------------------------- six-bar
@@ -241,20 +273,28 @@ def test_six_bar_against_dense_sweep():
     assert r.output == "5"
     ext = _kinds(r, "output_extreme")
     assert ext, "the output rocker must have extremes"
-    _check_against_sweep(m, r, frames=4000)
-    # and every located extreme is seen by the sweep of its own circuit (where the
-    # reference circuit is swept): the flips count matches the listed extremes there
+    # one smooth branch over a full turn with no input limit: the model's sweep of the
+    # reference's assembly modes covers the whole traced curve, so the comparison
+    # holds both ways
+    assert r.branches == 1 and r.input_range.full_turn and not _kinds(r, "input_limit")
     model = KinematicModel.build(m)
     q = model.sweep(4000)[:, 0]
+    step = float(q[1] - q[0])
     mo = model.motion(q, order=1)
-    sig = mo.angle("5")[1]
-    n_flips = int(np.sum((sig[:-1] * sig[1:] < 0) & mo.valid[:-1] & mo.valid[1:]))
-    assert n_flips >= 1
-    # the output angle at each extreme agrees with the model at that q
-    for p in ext:
-        out = model.motion([p.q], order=0).angle("5")[0][0]
-        if np.isfinite(out) and _mod(out, p.output_angle) < 1e-3:
-            assert _mod(out, p.output_angle) < 1e-9
+    assert mo.valid.all()
+    out, sig = mo.angle("5")[:2]
+    flips = [(0.5 * (q[i] + q[i + 1]), out[i]) for i in np.nonzero(sig[:-1] * sig[1:] < 0)[0]]
+    assert len(flips) == len(ext)
+    for p in ext:  # listed -> seen, with the same output angle
+        assert any(_mod(f, p.q) < 2 * step and _mod(o, p.output_angle) < 1e-4 for f, o in flips)
+    for f, o in flips:  # seen -> listed
+        assert any(_mod(f, p.q) < 2 * step and _mod(o, p.output_angle) < 1e-4 for p in ext)
+    # at each located extreme the model's output angle is the listed one, and its
+    # analog vanishes there (to the closure's accuracy)
+    at = model.motion([p.q for p in ext], order=1)
+    for k, p in enumerate(ext):
+        assert _mod(at.angle("5")[0][k], p.output_angle) < 1e-9
+        assert abs(at.angle("5")[1][k]) < 1e-8
 
 
 # ---------------------------------------------------------------- invariance
