@@ -45,7 +45,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.geometry import Geometry, read_geometry
@@ -55,10 +54,9 @@ from mjstruct.kinematics.tolerances import PLAN_RANK_TOL
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition, assur_groups
 from mjstruct.structure.drivers import validate_drivers
+from mjstruct.typing import FloatArray
 
 __all__ = ["STEP_KINDS", "Plan", "Step", "plan_kinematics"]
-
-FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
