@@ -216,3 +216,25 @@ def test_source_papers_cited_by_the_modules_implementing_them(key: str) -> None:
 
 def _references() -> str:
     return (ROOT / "docs/references.md").read_text(encoding="utf-8")
+
+
+def test_readme_layout_names_every_module() -> None:
+    """README's Layout section names each module of the package (by file stem); the
+    command modules of cli/ are covered by "one module per command"."""
+    from mjstruct.cli.main import COMMANDS
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    layout = readme.split("## Layout", 1)[1].split("\n## ", 1)[0]
+    words = set(re.findall(r"[\w.]+", layout))
+    src = ROOT / "src/mjstruct"
+    missing = sorted(
+        p.relative_to(src).as_posix()
+        for p in src.rglob("*.py")
+        if p.name != "__init__.py"
+        and p.stem not in words
+        and p.name not in words
+        and not (p.parent.name == "cli" and p.stem in COMMANDS)
+    )
+    assert not missing, f"README.md Layout does not name {missing}"
+    packages = {p.parent.name for p in src.rglob("__init__.py")} - {"mjstruct"}
+    assert all(f"{name}/" in layout for name in packages)
