@@ -21,10 +21,13 @@ from mjstruct.io import mechanism_from_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.plot import animation as animation_module
 from mjstruct.plot.atlas_sheet import (
+    ChainLayout,
     atlas_figures,
     chain_layout,
     crossings,
     draw_chain,
+    overlaps,
+    quality,
     write_atlas_sheet,
 )
 from mjstruct.plot.charts import CHARTS, draw_chart, jacobian_determinant, near_singular
@@ -278,11 +281,16 @@ def test_atlas_sheet_one_panel_per_chain_and_no_crossings(tmp_path):
     from mjstruct.synthesis.atlas import atlas
 
     a = atlas(1, 8, mj=True)
-    for c in a.chains:
+    for k, c in enumerate(a.chains, 1):
         lay = chain_layout(c.mechanism())
         assert lay.planar == c.planar
         if c.planar:
-            assert crossings(lay) == 0
+            # no crossing edges, no link drawn over another (polygons sharing area, a
+            # polygon as the outer face covering the chain), no joint on a foreign bar,
+            # no two bars through a multiple joint in line
+            assert crossings(lay) == 0, k
+            assert overlaps(lay) == [], k
+            assert quality(lay) > 0.5, k
     some = a.chains[10:22]  # simple and MJ chains
     figs = atlas_figures(some, per_page=5)
     panels = [ax for fig in figs for ax in fig.axes]
@@ -319,6 +327,51 @@ def test_atlas_sheet_panels(tmp_path):
     pos[a], pos[far[0]] = lay.pos[far[0]], lay.pos[a]
     swapped = type(lay)(pos, lay.outline, lay.planar)
     assert crossings(swapped) > 0
+
+
+def test_atlas_layout_checks_are_not_vacuous():
+    from mjstruct.synthesis.atlas import atlas
+
+    chains = atlas(1, 8, mj=True).chains
+    # F1n8-0016, [LA] 6,0,2: a quaternary link's polygon as the outer face covered the
+    # whole chain, the other quaternary inside it
+    m = chains[15].mechanism()
+    lay = chain_layout(m)
+    quads = [link for link, js in lay.outline.items() if len(js) == 4]
+    assert len(quads) == 2
+    from mjstruct.plot import atlas_sheet
+
+    jg = atlas_sheet._joint_graph(m, lay.outline)
+    pos = atlas_sheet._barycentric(jg, list(lay.outline[quads[0]]))  # the old choice
+    covered = ChainLayout(pos, lay.outline, True)
+    assert crossings(covered) == 0 and (quads[0], quads[1]) in overlaps(covered)
+    # two triangles sharing a joint, one in the other's corner
+    tri = ChainLayout(
+        {"A": 0j, "B": 1 + 0j, "C": 1j, "D": 0.3 + 0.1j, "E": 0.1 + 0.3j},
+        {"1": ("A", "B", "C"), "2": ("A", "D", "E")},
+        True,
+    )
+    assert crossings(tri) == 0 and ("1", "2") in overlaps(tri)
+    # F1n8-0059: the bars in parallel between its two multiple joints were piled up
+    # and two bars ran in line through a multiple joint
+    lay = chain_layout(chains[58].mechanism())
+    assert quality(lay) >= 1.0
+    pos = dict(lay.pos)
+    a, b = "J1", "J0"
+    other = next(j for js in lay.outline.values() if a in js for j in js if j not in (a, b))
+    pos[other] = pos[a] + (pos[a] - pos[b]) * 0.5  # in line with the bar a–b
+    assert quality(ChainLayout(pos, lay.outline, True)) < 0.1
+
+
+def test_atlas_title_above_the_captions():
+    from mjstruct.synthesis.atlas import atlas
+
+    (fig,) = atlas_figures(atlas(1, 6).chains, title="F = 1, n = 6")
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    title = fig._suptitle.get_window_extent(r)
+    captions = [ax.title.get_window_extent(r) for ax in fig.axes]
+    assert len(captions) >= 2 and title.y0 > max(c.y1 for c in captions)
 
 
 def test_atlas_sheet_bad_suffix(tmp_path):
