@@ -82,3 +82,15 @@ def test_reference_on_a_singular_position_agrees_with_a_nudged_reference(kind):
     assert len(exact.singular) == len(nudged.singular)
     for p in exact.singular:
         assert min(_mod(p.q, o.q) for o in nudged.singular if o.kind == p.kind) < 1e-5
+
+
+@pytest.mark.parametrize("name", ["fourbar-ms2", "fourbar-ms5", "slider-crank", "four-bar"])
+def test_numbers_are_python_floats(name):
+    r = singular_analysis(read_mechanism(example_path(name)))
+    assert r.singular
+    for p in r.singular:
+        assert type(p.q) is float and type(p.output_angle) is float
+    for a, b in r.input_range.intervals:
+        assert type(a) is float and type(b) is float
+    for arc in r.fold_arcs:
+        assert type(arc.q_from) is float and type(arc.q_to) is float

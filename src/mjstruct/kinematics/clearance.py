@@ -39,6 +39,13 @@ import numpy.typing as npt
 
 from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.singular_curve import ClosureEquations
+from mjstruct.kinematics.tolerances import (
+    FD_STEP2,
+    TURNS,
+    ZONE_CLOSURE,
+    ZONE_DISC,
+    ZONE_FLAT,
+)
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -123,12 +130,12 @@ def leading_order_zone(
     """
     v, w = singular_direction(eq, x, fixed)
     col = 3 * eq.moving.index(link) + 2
-    if abs(v[col]) < 1e-9:
+    if abs(v[col]) < TURNS:
         return None
     v = v / v[col]
     g = _fixed_coordinate(eq, fixed)
     g0 = g(x)[0]
-    e = 1e-4
+    e = FD_STEP2
 
     def F(y: FloatArray) -> FloatArray:
         return np.append(eq.residual(y), g(y)[0] - g0)
@@ -137,7 +144,7 @@ def leading_order_zone(
     E = 0.0
     for jid, rows, _ in _blocks(eq):
         E += float(np.linalg.norm(w[rows])) * clearances.get(jid, 0.0) / eq.size
-    if abs(c) < 1e-12:
+    if abs(c) < ZONE_FLAT:
         return 2 * math.pi
     return min(2 * math.pi, 2 * math.sqrt(2 * E / abs(c)))
 
@@ -171,7 +178,7 @@ def exact_zone(
         radius[rows] = clearances[jid] / eq.size
     n, m = eq.n, radius.size
     v, _ = singular_direction(eq, x, fixed)
-    v = v / v[col] if abs(v[col]) > 1e-9 else np.eye(n)[col]
+    v = v / v[col] if abs(v[col]) > TURNS else np.eye(n)[col]
     beta0 = 0.25 * (guess if guess and guess > 0 else 0.01)
     ends = []
     for sign in (1.0, -1.0):
@@ -217,7 +224,7 @@ def exact_zone(
             options={"ftol": 1e-12, "maxiter": 300},
         )
         z = res.x
-        if float(np.abs(closure(z)).max()) > 1e-10 or float(discs(z).min()) < -1e-8:
+        if float(np.abs(closure(z)).max()) > ZONE_CLOSURE or float(discs(z).min()) < -ZONE_DISC:
             raise NumericalError(f"exact zone: the feasibility search failed ({res.message})")
         ends.append(float(z[col] - x[col]))
     psi = ends[0] - ends[1]

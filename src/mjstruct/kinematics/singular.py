@@ -49,7 +49,7 @@ import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
-from mjstruct.kinematics.fourbar import FourBar, fourbar_theory
+from mjstruct.kinematics.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.kinematics.singular_curve import (
     MAX_STEP,
     Bifurcation,
@@ -60,20 +60,26 @@ from mjstruct.kinematics.singular_curve import (
     trace_component,
     wrap_delta,
 )
+from mjstruct.kinematics.tolerances import (
+    AT_CHANGE_POINT,
+    COINCIDE_ALONG,
+    COLLINEAR_TOL,
+    DISPLAY_ZERO,
+    FOLD_TOL,
+    FULL_TURN_SLACK,
+    NEAR_CHANGE_POINT,
+    Q_TOUCH,
+    ROOT_ABS,
+    ROOT_AT_STATION,
+    SAME_POINT,
+    TURNS,
+)
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.mobility import dof_grubler
 
 FloatArray = npt.NDArray[np.float64]
 
 KINDS = ("input_limit", "output_extreme", "change_point")
-#: a minor this small (tangent component) along a whole branch makes a fold arc
-FOLD_TOL = 1e-9
-#: a tangent component below this fraction of its largest value along the branch is
-#: zero at that station (a station lying exactly on a singular position)
-ROOT_AT_STATION = 1e-12
-#: two joints closer than this (normalised) all along a fold branch sit on each other
-COINCIDE_ALONG = 1e-9
-#: three centres are in line when the triangle's sine is below this
-COLLINEAR_TOL = 1e-7
 
 
 @dataclass(frozen=True)
@@ -243,7 +249,7 @@ def _num(v: float | None) -> float | None:
 
 def dof(m: Mechanism) -> int:
     """Grübler's count 3(n - 1) - 2 sum(multiplicity) (R and P joints alike)."""
-    return 3 * (len(m.links) - 1) - 2 * sum(j.multiplicity for j in m.joints)
+    return dof_grubler(len(m.links), sum(j.multiplicity for j in m.joints))
 
 
 def _is_fourbar(m: Mechanism) -> bool:
@@ -364,7 +370,7 @@ def singular_analysis(
     if lengths is not None:
         l0, l1, l2, l3 = lengths
         longest = max(lengths)
-        if longest >= sum(lengths) - longest - 1e-9 * longest:
+        if longest >= sum(lengths) - longest - TIE * longest:
             raise MechanismError(
                 "joints.at: the four-bar cannot move from its reference configuration (its "
                 "longest link equals the other three together)"
@@ -385,14 +391,14 @@ def singular_analysis(
             f"redundant constraints ({rows} equations for {eq.n - 1}): change points are "
             "not searched (the bordered determinant needs a square system)"
         )
-    q_ref = eq.geometry.driver_ref[driver]
+    q_ref = float(eq.geometry.driver_ref[driver])
     revolute = m.joint(driver).kind == "R"
 
     def qwrap(q: float) -> float:
         if not revolute:
             return q
         r = (q - q_ref) % (2 * math.pi)
-        return q_ref + (0.0 if r > 2 * math.pi - 1e-12 else r)
+        return q_ref + (0.0 if r > 2 * math.pi - Q_TOUCH else r)
 
     found: list[tuple[str, FloatArray]] = [("change_point", b.x) for b in bifs]
     fold_arcs: list[FoldArc] = []
@@ -417,14 +423,14 @@ def singular_analysis(
             for i, at_station in _sign_changes(comp):
                 xr = br.x[i] if at_station else _refine_root(eq, br, i, grad)
                 if xr is None:
-                    near = [b for b in bifs if _near(eq, br.x[i], b.x, 0.1)]
+                    near = [b for b in bifs if _near(eq, br.x[i], b.x, NEAR_CHANGE_POINT)]
                     if not near:
                         warnings.append(
                             f"{kind}: a sign change near q = {qwrap(float(qs[i])):.9g} could "
                             "not be located (a tangency); it is not listed"
                         )
                     continue
-                if any(float(np.abs(wrap_delta(eq, xr - b.x)).max()) < 1e-6 for b in bifs):
+                if any(_near(eq, xr, b.x, AT_CHANGE_POINT) for b in bifs):
                     continue
                 found.append((kind, xr))
                 if kind == "input_limit":  # the exact ends of this branch's q span
@@ -433,7 +439,7 @@ def singular_analysis(
         q_spans.append((min([float(qs.min()), *limits]), max([float(qs.max()), *limits]), winds))
     unique: list[tuple[str, FloatArray]] = []
     for kind, x in found:
-        if not any(_near(eq, x, y, 1e-7) for _, y in unique):
+        if not any(_near(eq, x, y, SAME_POINT) for _, y in unique):
             unique.append((kind, x))
     positions = []
     for kind, x in unique:
@@ -445,7 +451,7 @@ def singular_analysis(
         positions.append(
             SingularPosition(
                 kind,
-                qwrap(eq.input(x)[0]),
+                float(qwrap(eq.input(x)[0])),
                 float(math.remainder(eq.output_angle(x), 2 * math.pi)),
                 coll,
                 pairs,
@@ -513,7 +519,7 @@ def _refine_root(eq: ClosureEquations, br: Branch, i: int, grad: Any) -> FloatAr
     grid = np.linspace(0.0, s1, 9)
     vals = [comp(float(s)) for s in grid]
     for k in range(9):
-        if abs(vals[k]) < 1e-14:
+        if abs(vals[k]) < ROOT_ABS:
             return point_on_step(eq, x0, t0, float(grid[k]))
     for k in range(8):
         if vals[k] * vals[k + 1] < 0:
@@ -527,8 +533,8 @@ def _near(eq: ClosureEquations, a: FloatArray, b: FloatArray, tol: float) -> boo
 
 
 def _tidy(v: float) -> float:
-    """Round-off below 1e-9 shown as zero (no "-0")."""
-    return 0.0 if abs(v) < 1e-9 else v
+    """Round-off below DISPLAY_ZERO shown as zero (no "-0")."""
+    return 0.0 if abs(v) < DISPLAY_ZERO else v
 
 
 def _coinciding(eq: ClosureEquations, br: Branch) -> list[tuple[str, str]]:
@@ -578,9 +584,10 @@ def _fold_arcs(
         ]
     rel: list[float] = []
     for c in sorted(_wrap_rel(c - q_ref) for c in cuts):
-        if not rel or c - rel[-1] > 1e-9:  # a change point met by several branches
+        if not rel or c - rel[-1] > FULL_TURN_SLACK:  # a change point met by several branches
             rel.append(c)
-    if hi - lo >= two_pi - 1e-9:  # the branch winds once: arcs between its change points
+    # a branch that winds once: arcs between its change points
+    if hi - lo >= two_pi - FULL_TURN_SLACK:
         if not rel:
             return [FoldArc("output_extreme", q_ref, q_ref + two_pi, joints, dwell)]
         ends = [*rel, rel[0] + two_pi]
@@ -591,14 +598,14 @@ def _fold_arcs(
     return [
         FoldArc("output_extreme", q_ref + a, q_ref + b, joints, dwell)
         for a, b in itertools.pairwise(ends)
-        if b - a > 1e-12
+        if b - a > Q_TOUCH
     ]
 
 
 def _wrap_rel(d: float) -> float:
     """``d`` modulo 2 pi in [0, 2 pi), round-off just below 2 pi taken as 0."""
     r = d % (2 * math.pi)
-    return 0.0 if r > 2 * math.pi - 1e-12 else r
+    return 0.0 if r > 2 * math.pi - Q_TOUCH else r
 
 
 def _fold_warning(
@@ -678,7 +685,7 @@ def _direction(eq: ClosureEquations, x: FloatArray, fixed: str) -> tuple[FloatAr
 
 def _turns(eq: ClosureEquations, x: FloatArray, fixed: str, link: str) -> bool:
     v, _ = _direction(eq, x, fixed)
-    return bool(abs(v[3 * eq.moving.index(link) + 2]) > 1e-6)
+    return bool(abs(v[3 * eq.moving.index(link) + 2]) > TURNS)
 
 
 def _input_range(
@@ -689,29 +696,29 @@ def _input_range(
     """Union of the branches' input spans (on the circle for a revolute driver)."""
     two_pi = 2 * math.pi
     if revolute and any(w for _, _, w in spans):
-        return InputRange(True, ((q_ref, q_ref + two_pi),))
+        return InputRange(True, ((float(q_ref), float(q_ref + two_pi)),))
     arcs = sorted((lo, hi) for lo, hi, _ in spans)
     if not revolute:
         merged: list[list[float]] = []
         for lo, hi in arcs:
-            if merged and lo <= merged[-1][1] + 1e-12:
+            if merged and lo <= merged[-1][1] + Q_TOUCH:
                 merged[-1][1] = max(merged[-1][1], hi)
             else:
                 merged.append([lo, hi])
-        return InputRange(False, tuple((a, b) for a, b in merged))
+        return InputRange(False, tuple((float(a), float(b)) for a, b in merged))
     rel = sorted(((lo - q_ref) % two_pi, (lo - q_ref) % two_pi + (hi - lo)) for lo, hi in arcs)
     merged = []
     for lo, hi in rel:
-        if merged and lo <= merged[-1][1] + 1e-12:
+        if merged and lo <= merged[-1][1] + Q_TOUCH:
             merged[-1][1] = max(merged[-1][1], hi)
         else:
             merged.append([lo, hi])
-    if len(merged) > 1 and merged[-1][1] - two_pi >= merged[0][0] - 1e-12:
+    if len(merged) > 1 and merged[-1][1] - two_pi >= merged[0][0] - Q_TOUCH:
         first = merged.pop(0)
         merged[-1][1] = max(merged[-1][1], first[1] + two_pi)
-    if any(b - a >= two_pi - 1e-9 for a, b in merged):
-        return InputRange(True, ((q_ref, q_ref + two_pi),))
-    return InputRange(False, tuple((q_ref + a, q_ref + b) for a, b in merged))
+    if any(b - a >= two_pi - FULL_TURN_SLACK for a, b in merged):
+        return InputRange(True, ((float(q_ref), float(q_ref + two_pi)),))
+    return InputRange(False, tuple((float(q_ref + a), float(q_ref + b)) for a, b in merged))
 
 
 def classify_singular_frames(

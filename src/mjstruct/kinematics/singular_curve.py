@@ -36,19 +36,30 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import cached_property
 
 import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.tolerances import (
+    CORRECT_ACCEPT,
+    FD_STEP2,
+    MIN_STEP,
+    NEWTON_TOL,
+    QUAD_DEGENERATE,
+    QUAD_ZERO,
+    RANK_DROP,
+    REF_CLOSES,
+    SAME_DIRECTION,
+    SAME_POINT,
+    STEP_CONVERGED,
+    STEP_TURN,
+)
 from mjstruct.mechanism import Mechanism
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Newton tolerance on the closure residual (lengths over the mechanism's size)
-NEWTON_TOL = 1e-13
 #: largest continuation step (in the normalised coordinates)
 MAX_STEP = 0.05
 #: steps after which a branch that has not closed is reported as trouble
@@ -92,10 +103,6 @@ class ClosureEquations:
     def n(self) -> int:
         """Number of coordinates."""
         return 3 * len(self.moving)
-
-    @cached_property
-    def _index(self) -> dict[str, int]:
-        return {link: i for i, link in enumerate(self.moving)}
 
     def reference(self) -> FloatArray:
         """The reference configuration (all links at rest)."""
@@ -149,10 +156,6 @@ class ClosureEquations:
     def residual(self, x: FloatArray) -> FloatArray:
         """All constraint residuals, stacked."""
         return np.concatenate([r for _, r in self.residual_blocks(x)])
-
-    def row_joints(self) -> list[str]:
-        """The joint id of each residual row."""
-        return [jid for jid, r in self.residual_blocks(self.reference()) for _ in r]
 
     def _point_grad(
         self, x: FloatArray, link: str, z: complex, sign: float, g: npt.NDArray[np.complex128]
@@ -329,9 +332,12 @@ def correct(
         dx = np.linalg.lstsq(A, -r, rcond=None)[0]
         x = np.asarray(x + dx, dtype=np.float64)
         # quadratic convergence: after a step below 1e-7 the error is ~1e-14
-        if float(np.abs(dx).max()) < 1e-7 and float(np.abs(eq.residual(x)).max()) < NEWTON_TOL:
+        if (
+            float(np.abs(dx).max()) < STEP_CONVERGED
+            and float(np.abs(eq.residual(x)).max()) < NEWTON_TOL
+        ):
             return x
-    if float(np.abs(eq.residual(x)).max()) < 1e-11:
+    if float(np.abs(eq.residual(x)).max()) < CORRECT_ACCEPT:
         return x
     return None
 
@@ -354,7 +360,7 @@ class Bifurcation:
 
 def _quadratic(eq: ClosureEquations, x: FloatArray, u: FloatArray, w: FloatArray) -> float:
     """w . Phi''(x)[u, u] by central differences."""
-    e = 1e-4
+    e = FD_STEP2
     return float(w @ (eq.residual(x + e * u) + eq.residual(x - e * u) - 2 * eq.residual(x))) / e**2
 
 
@@ -372,24 +378,24 @@ def branch_directions(eq: ClosureEquations, x: FloatArray) -> list[FloatArray]:
     C = _quadratic(eq, x, u2, w)
     B = (_quadratic(eq, x, (u1 + u2) / math.sqrt(2), w) * 2 - A - C) / 2
     scale = max(abs(A), abs(B), abs(C))
-    if scale < 1e-6:
+    if scale < QUAD_DEGENERATE:
         raise MechanismError(
             "mechanism: it moves with more than one degree of freedom at a configuration "
             "(every direction of the two-dimensional null space closes)"
         )
     A, B, C = A / scale, B / scale, C / scale
     disc = B * B - A * C
-    if disc < -1e-9:
+    if disc < -QUAD_ZERO:
         return []
     disc = max(disc, 0.0)
     dirs: list[tuple[float, float]] = []
-    if abs(C) > 1e-9:
+    if abs(C) > QUAD_ZERO:
         for sgn in (1.0, -1.0):
             tg = (-B + sgn * math.sqrt(disc)) / C
             dirs.append((1.0, tg))
     else:
         dirs.append((0.0, 1.0))
-        dirs.append((1.0, -A / (2 * B)) if abs(B) > 1e-12 else (1.0, 0.0))
+        dirs.append((1.0, -A / (2 * B)) if abs(B) > QUAD_ZERO else (1.0, 0.0))
     out = []
     for a, b in dirs:
         v = a * u1 + b * u2
@@ -399,7 +405,7 @@ def branch_directions(eq: ClosureEquations, x: FloatArray) -> list[FloatArray]:
 
 def _known(eq: ClosureEquations, bifs: list[Bifurcation], x: FloatArray) -> Bifurcation | None:
     for b in bifs:
-        if float(np.abs(wrap_delta(eq, x - b.x)).max()) < 1e-7:
+        if float(np.abs(wrap_delta(eq, x - b.x)).max()) < SAME_POINT:
             return b
     return None
 
@@ -468,9 +474,9 @@ def trace_branch(
     for _ in range(MAX_STEPS):
         xn = correct(eq, x + h * t, t)
         tn = None if xn is None else tangent(eq, xn, t)
-        if xn is None or tn is None or float(tn @ t) < 0.9 or np.linalg.norm(xn - x) > 2 * h:
+        if xn is None or tn is None or float(tn @ t) < STEP_TURN or np.linalg.norm(xn - x) > 2 * h:
             h /= 2
-            if h < 1e-9:
+            if h < MIN_STEP:
                 raise NumericalError("configuration curve: continuation step underflow")
             continue
         det_n = bordered_det(eq, xn, t)
@@ -511,12 +517,12 @@ def trace_component(
         the linkage cannot move from ``x0`` (an isolated configuration).
     """
     J = eq.jacobian(x0)
-    if float(np.abs(eq.residual(x0)).max()) > 1e-9:
+    if float(np.abs(eq.residual(x0)).max()) > REF_CLOSES:
         raise MechanismError("joints.at: the reference configuration does not close")
     _, s = null_space(J)
     bifs: list[Bifurcation] = []
     starts: list[tuple[FloatArray, FloatArray]] = []
-    if s[-2] < 1e-9:  # the reference is itself a change point
+    if s[-2] < RANK_DROP:  # the reference is itself a change point
         dirs = branch_directions(eq, x0)
         if not dirs:
             raise MechanismError(
@@ -563,4 +569,4 @@ def _passes(eq: ClosureEquations, br: Branch, x: FloatArray, d: FloatArray) -> b
     """Does branch ``br`` pass through ``x`` with tangent parallel to ``d``?"""
     diff = np.array([wrap_delta(eq, p - x) for p in br.x])
     near = np.linalg.norm(diff, axis=1) < 2 * MAX_STEP
-    return bool(near.any() and (np.abs(br.t[near] @ d) > 0.95).any())
+    return bool(near.any() and (np.abs(br.t[near] @ d) > SAME_DIRECTION).any())
