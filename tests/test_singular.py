@@ -486,7 +486,8 @@ def test_zone_drawing_has_one_wedge_per_zone():
     m = read_mechanism(example_path("fourbar-ms4"))
     r = singular_analysis(m, clearance=0.02)
     fig = plot_singular_zones(m, r)
-    wedges = [p for p in fig.axes[0].patches if isinstance(p, Wedge)]
+    # one axes, or one panel per position: the wedges of all of them, in order
+    wedges = [p for ax in fig.axes for p in ax.patches if isinstance(p, Wedge)]
     assert len(wedges) == sum(len(p.zone) for p in r.singular)
     for w, z in zip(wedges, [z for p in r.singular for z in p.zone], strict=True):
         assert w.theta2 - w.theta1 == pytest.approx(math.degrees(z.psi))
