@@ -401,6 +401,24 @@ def test_ms_diagram_chart_marks_the_four_bar():
     assert len(star) == 1 and tuple(star[0].get_xydata()[0]) == pytest.approx((p2, p3))
 
 
+def test_singular_zones_are_drawn_on_the_scheme():
+    from mjstruct.kinematics.singular import singular_analysis
+    from mjstruct.plot.drawing import artists
+    from mjstruct.plot.ms_diagram import plot_singular_zones
+
+    m = read_mechanism(example_path("fourbar-ms4"))
+    analysis = singular_analysis(m, clearance=0.02)
+    fig = plot_singular_zones(m, analysis)
+    (ax,) = fig.axes
+    # the mechanism's scheme (pins, ground) at the first position, the others outlined
+    assert len(artists(ax, "joint")) == len(m.joints) and artists(ax, "ground")
+    assert {a.get_gid() for a in artists(ax, "position")} == {"position:1", "position:2"}
+    # one wedge and one ψ note per zone
+    zones = [z for p in analysis.singular for z in p.zone or () if z.psi is not None]
+    assert len(artists(ax, "zone")) == len(artists(ax, "psi")) == len(zones) >= 3
+    assert all(a.get_text().startswith("ψ = ") for a in artists(ax, "psi"))
+
+
 def test_draw_without_geometry_is_the_structural_scheme(tmp_path, capsys):
     out = tmp_path / "watt.svg"
     assert main(["draw", ex("watt"), "-o", str(out)]) == 0

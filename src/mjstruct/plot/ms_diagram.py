@@ -143,40 +143,52 @@ def ms_point(mechanism: Mechanism) -> tuple[float, float, float]:
     return l1 / l0, l2 / l0, l3 / l0
 
 
+#: colours of the singular positions (outside the link and group colours)
+POSITION_COLOURS = ("#e6008a", "#00897b", "#ef6c00", "#5e35b1", "#6d4c41")
+
+
 def plot_singular_zones(
     mechanism: Mechanism, analysis: SingularAnalysis, ax: Axes | None = None
 ) -> Figure:
-    """The linkage drawn at each singular position, with its clearance-zone wedges.
+    """The linkage's scheme at its singular positions, with the clearance-zone wedges.
 
-    Each position is drawn in its own colour (joints as circles, links as bars);
-    every zone is a wedge of angle ``psi`` centred on the zone link's direction at
-    the pivot the link turns about.
+    The first position is drawn as ``mjstruct draw`` draws the mechanism
+    (:func:`~mjstruct.plot.drawing.draw_scene`: frame, links, pins, labels), the others
+    as dashed outlines over it, each position in its own colour; every zone is a wedge
+    of angle ``psi`` centred on the zone link's direction at the pivot the link turns
+    about, with ``psi`` written beside it.
     """
     import matplotlib.pyplot as plt
-    from matplotlib.patches import Wedge
 
-    from mjstruct.kinematics.singular_curve import ClosureEquations
+    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.plot.drawing import _anchor_positions, draw_scene, scene_at
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=(7.0, 5.0))
+        fig, ax = plt.subplots(figsize=(8.4, 5.6))
     else:
         fig = ax.figure  # type: ignore[assignment]
-    eq = ClosureEquations.build(mechanism, analysis.input, analysis.output)
+    model = KinematicModel.build(mechanism, [analysis.input])
     m = mechanism
-    colours = plt.get_cmap("tab10")
+    seen: list[complex] = []
+    notes = 0
     for k, p in enumerate(analysis.singular):
-        x = np.array(p.configuration)
-        pos = {j.id: eq.in_file_units(eq.joint_position(x, j.id)) for j in m.joints}
-        c = colours(k % 10)
-        for link in m.links:
-            if link == m.frame:
-                continue
-            js = [pos[j] for j in m.link_joints[link]]
-            ax.plot([z.real for z in js], [z.imag for z in js], "-", color=c, linewidth=2)
-        for jid, z in pos.items():
-            ax.plot([z.real], [z.imag], "o", color=c, markerfacecolor="white", markersize=5)
-            if k == 0:
-                ax.annotate(jid, (z.real, z.imag), textcoords="offset points", xytext=(4, -10))
+        scene = scene_at(model, q=[p.q])
+        colour = POSITION_COLOURS[k % len(POSITION_COLOURS)]
+        if k == 0:
+            draw_scene(scene, ax=ax, title=False)
+        last = int(scene.shown[-1])
+        if not scene.motion.valid[last]:
+            continue
+        pos = _anchor_positions(scene, last)
+        seen += list(pos.values())
+        if k > 0:
+            for link in m.links:
+                if link != m.frame:
+                    z = [pos[j] for j in m.link_joints[link]]
+                    ax.plot([w.real for w in z], [w.imag for w in z], "--", color=colour,
+                            lw=1.6, zorder=4, gid=f"position:{k}")  # fmt: skip
+        label = f"{p.kind.replace('_', ' ')}, q = {math.degrees(p.q):.2f}°"
+        ax.plot([], [], "-" if k == 0 else "--", color=colour, lw=2, label=label)
         for zone in p.zone or ():
             if zone.psi is None or zone.pair is None:
                 continue
@@ -184,25 +196,60 @@ def plot_singular_zones(
             # the longer link turns about its far end (the pivot of formula (3))
             shared = next(j for j in m.link_joints[a] if j in m.link_joints[b])
             far = next(j for j in m.link_joints[zone.link] if j != shared)
-            centre = pos[far]
-            arm = pos[shared] - centre
-            direction = math.degrees(math.atan2(arm.imag, arm.real))
-            radius = abs(pos[shared] - centre)
-            half = math.degrees(zone.psi) / 2
-            ax.add_patch(
-                Wedge(
-                    (centre.real, centre.imag),
-                    radius,
-                    direction - half,
-                    direction + half,
-                    color=c,
-                    alpha=0.25,
-                )
-            )
-        ax.plot([], [], "-", color=c, label=f"{p.kind} q = {math.degrees(p.q):.2f} deg")
-    fz = [eq.geometry.centres[j.id] for j in m.joints if m.frame in j.links]
-    ax.plot([z.real for z in fz], [z.imag for z in fz], "k^", markersize=9)
-    ax.set_aspect("equal")
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
-    ax.set_title(f"singular positions and clearance zones (D = {analysis.clearance:g})")
+            _zone(ax, pos[far], pos[shared], zone.psi, colour, notes, zone.link, (a, b))
+            notes += 1
+    if seen:
+        cloud = np.array(seen)
+        x0, x1 = ax.get_xlim()
+        y0, y1 = ax.get_ylim()
+        pad = 0.1 * float(np.ptp(cloud.real) + np.ptp(cloud.imag)) / 2
+        ax.set_xlim(min(x0, cloud.real.min() - pad), max(x1, cloud.real.max() + pad))
+        ax.set_ylim(min(y0, cloud.imag.min() - pad), max(y1, cloud.imag.max() + pad))
+    # beside the axes: the scheme fills them
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), framealpha=0.85)
+    clearance = "" if analysis.clearance is None else f" (D = {analysis.clearance:g})"
+    ax.set_title(f"{m.name or 'mechanism'}: singular positions and clearance zones{clearance}",
+                 fontsize=10)  # fmt: skip
     return fig
+
+
+def _zone(
+    ax: Axes,
+    centre: complex,
+    tip: complex,
+    psi: float,
+    colour: str,
+    n: int,
+    link: str,
+    pair: tuple[str, str],
+) -> None:
+    """A wedge of angle ``psi`` about ``centre`` towards ``tip``, with ψ written beside it."""
+    from matplotlib.patches import Wedge
+
+    direction = math.degrees(math.atan2((tip - centre).imag, (tip - centre).real))
+    half = math.degrees(psi) / 2
+    ax.add_patch(
+        Wedge(
+            (centre.real, centre.imag),
+            abs(tip - centre),
+            direction - half,
+            direction + half,
+            facecolor=colour,
+            edgecolor=colour,
+            alpha=0.3,
+            lw=1.0,
+            zorder=8,
+            gid=f"zone:{link}",
+        )
+    )
+    ax.annotate(
+        f"ψ = {math.degrees(psi):.3g}° (link {link}, pair {pair[0]}-{pair[1]})",
+        (tip.real, tip.imag),
+        xytext=(10, 10 + 12 * n),
+        textcoords="offset points",
+        fontsize=8,
+        color=colour,
+        arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.8},
+        zorder=9,
+        gid=f"psi:{link}",
+    )
