@@ -1,5 +1,6 @@
-"""Regenerate every image of docs/drawings.md (and the README picture) from the shipped
-examples: ``python docs/make_images.py`` (about half a minute).
+"""Regenerate every image of docs/drawings.md (and the README picture, and the two
+pictures of docs/singular.md) from the shipped examples: ``python docs/make_images.py``
+(about half a minute).
 
 Each image is made through the same functions the ``draw``, ``animate``, ``plot`` and
 ``atlas --draw`` commands call, so the pictures are what a user gets.
@@ -45,6 +46,23 @@ def chart(out: str, name: str, what: str, speed: float = 1.0, frames: int = 360)
     plt.close(fig)
 
 
+def singular() -> None:
+    """The P2-P3 diagram with MS4 and MS4's clearance zones (docs/singular.md)."""
+    from mjstruct.kinematics.singular import singular_analysis
+    from mjstruct.plot.ms_diagram import ms_point, plot_ms_diagram, plot_singular_zones
+
+    ms4 = read_mechanism(example_path("fourbar-ms4"))
+    p1, p2, p3 = ms_point(ms4)
+    zones = singular_analysis(ms4, clearance=0.02)
+    for out, fig in (
+        ("singular-ms-diagram.png", plot_ms_diagram(p1, point=(p2, p3), label="MS4")),
+        ("singular-ms4-zones.png", plot_singular_zones(ms4, zones)),
+    ):
+        fig.tight_layout()
+        write_atomically(str(IMG / out), lambda tmp, fig=fig: fig.savefig(tmp, dpi=90))
+        plt.close(fig)
+
+
 def main() -> int:
     start = time.perf_counter()
     # the README picture: radial engine, Assur groups and velocity vectors
@@ -69,6 +87,7 @@ def main() -> int:
 
     chains = atlas(1, 8, mj=True).chains
     write_atlas_sheet(chains[12:30], str(IMG / "atlas-sheet.png"), title="F = 1, n = 8 (part)")
+    singular()
     sys.stdout.write(f"images written to {IMG} in {time.perf_counter() - start:.1f} s\n")
     return 0
 
