@@ -4,10 +4,12 @@
   analogs, V, W, Q, the steady parameter, q̇, q̈, all reactions, the check) at 36 and
   3600 frames; targets 20 ms and 0.2 s.  The kinematics alone (one ``model.motion`` of
   the same frames, order 2) is timed beside it: it bounds what the dynamics can reach.
+  The same at constant speed (``--speed``: the steady parameter, reactions, check).
 * The seed-000 slider-crank, the same at 36 and 3600 frames.
-* Reactions on stacked arrays: the plug-in's solve (with its finiteness mask) against a
-  hand-written ``np.linalg.solve`` of the same frames × u × u stack; target within 3×.
-  The assembly of the stack is timed separately.
+* The whole reactions step (assembly of the stacked system, active and inertia loads,
+  the solve with its condition estimate, the excluded-equation check, the reaction
+  dictionaries: ``analysis._forces`` on a solved ``LinkMotion``) against a hand-written
+  ``np.linalg.solve`` of the same frames × u × u stack; target within 3×.
 
 Run: ``python benchmarks/bench_dynamics.py [--repeat N]``; prints medians and ratios.
 """
@@ -19,64 +21,73 @@ import argparse
 import numpy as np
 
 from mjstruct.catalog_files import example_path
-from mjstruct.dynamics import dynamic_analysis
+from mjstruct.dynamics import analysis, dynamic_analysis
 from mjstruct.dynamics.data import read_dynamics
 from mjstruct.dynamics.matrices import active_forces, link_motion
-from mjstruct.dynamics.reactions import (
-    inertia_loads,
-    solve_stack,
-    stack_loads,
-    system_matrix,
-    unknowns,
-)
+from mjstruct.dynamics.reactions import inertia_loads, stack_loads, system_matrix, unknowns
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics.model import KinematicModel
-from timing import median_time, race
+from timing import race
 
 
 def whole(name: str, frames: int, qdot0: float, repeat: int) -> None:
     m = read_mechanism(example_path(name))
     model = KinematicModel.build(m)
 
-    def dyn() -> object:
+    def free() -> object:
         return dynamic_analysis(m, qdot0=qdot0, frames=frames, model=model)
+
+    def speed() -> object:
+        return dynamic_analysis(m, speed=qdot0, frames=frames, model=model)
 
     def kin() -> object:
         return model.motion(model.sweep(frames), order=2)
 
-    t_dyn, t_kin = race([dyn, kin], repeat)
-    r = dyn()
+    t_free, t_speed, t_kin = race([free, speed, kin], repeat)
+    r = free()
     print(
-        f"{name}, {frames} frames: dynamics {t_dyn * 1e3:8.1f} ms  (kinematics alone "
-        f"{t_kin * 1e3:6.1f} ms, {t_dyn / t_kin:4.1f}x)  check {r.check:.1e}"  # type: ignore[attr-defined]
+        f"{name}, {frames} frames: free motion {t_free * 1e3:7.1f} ms, constant speed "
+        f"{t_speed * 1e3:7.1f} ms (kinematics alone {t_kin * 1e3:6.1f} ms; ratios "
+        f"{t_free / t_kin:4.1f}x, {t_speed / t_kin:4.1f}x)  check {r.check:.1e}"  # type: ignore[attr-defined]
     )
 
 
-def stacked(name: str, frames: int, repeat: int) -> None:
+def reactions_step(name: str, frames: int, repeat: int) -> None:
     m = read_mechanism(example_path(name))
     model = KinematicModel.build(m)
     data = read_dynamics(m)
     q = model.sweep(frames)
     lm = link_motion(model, data.inertia, q, 1.0)
     params = data.parameter_values(**({data.unknown: 1.0} if data.unknown else {}))
-    fa, ma = active_forces(data, lm, params, q[:, 0], np.ones(frames))
+    ones = np.ones(q.shape)
+    result = analysis.DynamicsResult(m.name, "speed", model.drivers, q, ones, 0 * ones)
+    wanted = set(analysis.OUTPUTS)
+
+    def ours() -> analysis.DynamicsResult:
+        return analysis._forces(result, model, data, lm, params, wanted, None, [], free=False)
+
+    # the same stacked system, assembled once outside the hand-written timing
+    fa, ma = active_forces(data, lm, params, q[:, 0], ones[:, 0])
     mass = np.array([data.inertia[x].mass for x in lm.links])
     J = np.array([data.inertia[x].J for x in lm.links])
     fi, mi = inertia_loads(lm, mass, J)
     S = stack_loads(fa + fi, ma + mi)
-    cols = unknowns(model)
-    A = system_matrix(model, lm, cols)
-    t_asm, _ = median_time(lambda: system_matrix(model, lm, cols), repeat)
-    t_ours, t_hand = race(
-        [lambda: solve_stack(A, S), lambda: np.linalg.solve(A, -S[..., None])[..., 0]], repeat
-    )
-    x = solve_stack(A, S)[0]
-    ref = np.linalg.solve(A, -S[..., None])[..., 0]
-    assert np.array_equal(x, ref)
+    A = system_matrix(model, lm, unknowns(model))
+
+    def hand() -> np.ndarray:
+        return np.asarray(np.linalg.solve(A, -S[..., None])[..., 0])
+
+    t_ours, t_hand = race([ours, hand], repeat)
+    ref = hand()
+    r = ours()
+    d = model.drivers[0]
+    col = next(c for c, u in enumerate(unknowns(model)) if u.kind == "drive")
+    assert r.driving is not None
+    assert np.allclose(r.driving[d], ref[:, col], rtol=1e-12, atol=1e-12 * np.abs(ref).max())
     print(
-        f"{name}, {frames} frames × {A.shape[1]} unknowns: stacked solve {t_ours * 1e3:7.2f} ms, "
-        f"hand-written np.linalg.solve {t_hand * 1e3:7.2f} ms, ratio {t_ours / t_hand:4.2f} "
-        f"(target <= 3); assembly {t_asm * 1e3:6.2f} ms"
+        f"{name}, {frames} frames × {A.shape[1]} unknowns: whole reactions step "
+        f"{t_ours * 1e3:7.2f} ms, hand-written np.linalg.solve {t_hand * 1e3:7.2f} ms, "
+        f"ratio {t_ours / t_hand:4.2f} (target <= 3)"
     )
 
 
@@ -88,8 +99,8 @@ def main() -> None:
         whole("zhivago-dynamics", frames, 20.0, args.repeat)
         whole("slider-crank-seed000-dynamics", frames, 10.0, args.repeat)
     for frames in (36, 3600):
-        stacked("zhivago-dynamics", frames, args.repeat)
-        stacked("radial-engine-5-dynamics", frames, args.repeat)
+        reactions_step("zhivago-dynamics", frames, args.repeat)
+        reactions_step("radial-engine-5-dynamics", frames, args.repeat)
 
 
 if __name__ == "__main__":

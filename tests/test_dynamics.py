@@ -313,3 +313,36 @@ def test_cli_text_report_and_bad_input(tmp_path):
     assert p.returncode == 2 and "--speed" in p.stderr
     p = run_cli(str(SEED))
     assert p.returncode == 2
+
+
+@pytest.mark.parametrize("mode", [{"qdot0": 20.0}, {"speed": 20.0}, {"speed": -20.0}])
+def test_one_kinematic_solution_per_analysis(monkeypatch, mode):
+    # the frames' closure is solved once; the Gauss rounds of the steady parameter
+    # start from it (no fresh continuation), the reactions reuse it, and no SVD runs
+    m = read_mechanism(EXAMPLES / "zhivago-dynamics.json")
+    model = KinematicModel.build(m)
+    ref = dynamic_analysis(m, frames=36, model=model, method="adaptive", **mode)
+    calls = []
+    original = KinematicModel.motion
+
+    def counted(self, *a, **k):
+        calls.append(1)
+        return original(self, *a, **k)
+
+    def no_svd(*a, **k):
+        raise AssertionError("an SVD per frame")
+
+    monkeypatch.setattr(KinematicModel, "motion", counted)
+    monkeypatch.setattr(np.linalg, "cond", no_svd)
+    monkeypatch.setattr(np.linalg, "svd", no_svd)
+    r = dynamic_analysis(m, frames=36, model=model, **mode)
+    assert len(calls) == 1
+    # the same results as the independent adaptive quadrature on fresh closures
+    assert r.parameters["p"] == pytest.approx(ref.parameters["p"], rel=1e-10, abs=1e-9)
+    big = max(
+        np.abs(c).max() for per in ref.reactions.values() for x in per.values() for c in x.values()
+    )
+    for j, per in ref.reactions.items():
+        for link, comps in per.items():
+            for c, v in comps.items():
+                assert np.abs(r.reactions[j][link][c] - v).max() < 1e-9 * big

@@ -54,7 +54,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from mjstruct.dynamics.analysis import dynamic_analysis
+    from mjstruct.dynamics.analysis import OUTPUTS, dynamic_analysis
     from mjstruct.dynamics.report import render, write_csv
     from mjstruct.io import read_mechanism
 
@@ -77,9 +77,13 @@ def run(args: argparse.Namespace) -> int:
     drivers = driver_list(args.drivers, m)
     if args.time is not None:
         return _run_time(args, m, drivers)
+    outputs = set(OUTPUTS)
+    if args.speed is not None and args.json and not args.csv:
+        outputs.discard("coefficients")  # V, W, Q are not in the --speed JSON
     try:
         r = dynamic_analysis(
             m,
+            outputs=outputs,
             speed=args.speed,
             qdot0=args.qdot0,
             frames=args.frames,

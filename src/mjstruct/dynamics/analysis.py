@@ -249,7 +249,13 @@ def dynamic_analysis(
         if not np.isfinite(speed) or speed == 0:
             raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
         qs = model.sweep(frames, speed)
+        D1 = D == 1
+        # one kinematic solution of the frames serves the coefficients, the reactions
+        # and (as the seed of its Gauss rounds) the steady parameter
+        mo = model.motion(qs, order=2) if D1 else None
         path = PathForce(model, data, float(np.sign(speed)))
+        if mo is not None and mo.valid.all():
+            path = path.with_table(mo)
         if data.unknown is not None:
             params, cycle, err = steady_parameter(path, speed, method, n, harmonics)
         else:
@@ -267,13 +273,12 @@ def dynamic_analysis(
             cycle_work=cycle,
             integration_error=err,
         )
-        if D == 1 and "coefficients" in wanted:
-            mo = model.motion(qs, order=2)
+        if mo is not None and "coefficients" in wanted:
             V, W = coefficients(mo, data, links)
             Qv = generalised_force(mo, data, links, qs[:, 0], qd[:, 0], [params])[0]
             result = _replace(result, V=V, W=W, Q=Qv, balance=_balance(V))
         if need_forces:
-            lm = link_motion(model, data.inertia, qs, qd, None)
+            lm = link_motion(model, data.inertia, qs, qd, None, motion=mo)
             result = _forces(result, model, data, lm, params, wanted, joints, warnings, free=False)
     elif qdot0 is not None:
         if D != 1:
@@ -285,6 +290,7 @@ def dynamic_analysis(
         path = PathForce(model, data, s)
         qs = path.q(u)
         mo = model.motion(qs, order=2)
+        path = path.with_table(mo)  # the Gauss rounds start from the frames' closure
         if not mo.valid.all():
             bad = float(qs[np.argmax(~mo.valid), 0])
             raise MechanismError(
@@ -366,13 +372,14 @@ def dynamic_analysis(
         result = DynamicsResult(
             mechanism.name, "prescribed", model.drivers, qa, qd, qdd, parameters=params
         )
+        mo_p = None
         if D == 1 and "coefficients" in wanted:
-            mo = model.motion(qa, order=2)
-            V, W = coefficients(mo, data, links)
-            Qv = generalised_force(mo, data, links, qa[:, 0], qd[:, 0], [params])[0]
+            mo_p = model.motion(qa, order=2)
+            V, W = coefficients(mo_p, data, links)
+            Qv = generalised_force(mo_p, data, links, qa[:, 0], qd[:, 0], [params])[0]
             result = _replace(result, V=V, W=W, Q=Qv, balance=_balance(V))
         if need_forces:
-            lm = link_motion(model, data.inertia, qa, qd, qdd)
+            lm = link_motion(model, data.inertia, qa, qd, qdd, motion=mo_p)
             result = _forces(result, model, data, lm, params, wanted, joints, warnings, free=False)
     return _replace(result, warnings=tuple(warnings) + result.warnings)
 

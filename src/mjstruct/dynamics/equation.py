@@ -15,10 +15,12 @@ any q.
 Integration methods (``method``):
 
 ``gauss``
-    Gauss–Legendre (12 nodes, 6 for the estimate) on pieces bounded by the output
-    frames and the jumps of the load expressions (``Piecewise``, ``Heaviside``,
-    ``sign``, ``Abs`` in q), pieces halved until they agree (vectorised: one call of
-    the kinematics per round): piecewise loads are integrated piece by piece.
+    Gauss–Legendre (32 nodes on up to 200 pieces, else 6; half as many for the
+    estimate) on pieces bounded by the output frames and the jumps of the load
+    expressions (``Piecewise``, ``Heaviside``, ``sign``, ``Abs`` in q), pieces halved
+    until they agree (vectorised: one call of the kinematics per round, its closure
+    seeded from the frames' solution when there is one): piecewise loads are
+    integrated piece by piece.
 ``trapezoid``
     the trapezoid rule on 2ⁿ equal steps of the cycle, interpolated linearly to the frames.
 ``fft``
@@ -44,6 +46,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -64,7 +67,9 @@ METHODS = ("gauss", "trapezoid", "fft", "adaptive")
 #: Gauss–Legendre nodes per piece (the estimate uses half as many): many nodes on few
 #: pieces (each round of refinement is one call of the kinematics, costly for closures),
 #: fewer once the frames make the pieces short
-GAUSS_NODES = 12
+GAUSS_NODES = 6
+#: Gauss–Legendre nodes of the stop point's energy integral
+STOP_NODES = 24
 GAUSS_NODES_FEW_PIECES = 32
 GAUSS_FEW_PIECES = 200
 
@@ -73,6 +78,10 @@ GAUSS_PIECES = 16
 GAUSS_ROUNDS = 30
 GAUSS_RTOL = 1e-12
 GAUSS_MAX_POINTS = 200_000
+
+#: largest frame spacing (radians of the driver) from which the Gauss rounds are seeded:
+#: the continuation's own station step
+SEED_SPACING = 0.25
 
 #: relative tolerance of the energy ODE (speed-dependent loads)
 ODE_RTOL = 1e-10
@@ -166,10 +175,30 @@ class PathForce:
     model: KinematicModel
     data: DynamicsData
     direction: float
+    table: Motion | None = None
 
     @property
     def links(self) -> tuple[str, ...]:
         return tuple(x for x in self.model.mechanism.links if x != self.model.frame)
+
+    def with_table(self, mo: Motion) -> PathForce:
+        """This path seeded from ``mo``, a solved motion of frames on it (one driver).
+
+        The Gauss rounds then start each point's closure Newton from a Taylor step of
+        the nearest frame's unknowns (t, t', t'' known there) instead of a fresh
+        continuation from the reference, and skip the continuation when every point
+        closes on the frames' branch; otherwise they fall back to ``model.motion``.
+        """
+        usable = (
+            len(self.model.drivers) == 1
+            and mo.closure is not None
+            and not mo.events
+            and bool(mo.valid.all())
+            and mo.order >= 2
+            and mo.q.shape[0] >= 2
+            and float(np.abs(np.diff(mo.q[:, 0])).max()) <= SEED_SPACING
+        )
+        return dataclasses.replace(self, table=mo if usable else None)
 
     def q(self, u: npt.ArrayLike) -> FloatArray:
         """Driver values (frames × drivers) at path parameters ``u``."""
@@ -178,7 +207,13 @@ class PathForce:
 
     def motion(self, u: npt.ArrayLike, order: int) -> Motion:
         D = len(self.model.drivers)
-        mo = self.model.motion(self.q(u), order=order, rates=self.direction * np.ones(D))
+        rates = self.direction * np.ones(D)
+        seeded = None if self.table is None else _seeded(self.table, self.q(u), order, rates)
+        mo = (
+            seeded
+            if seeded is not None
+            else self.model.motion(self.q(u), order=order, rates=rates)
+        )
         if not mo.valid.all():
             bad = float(self.q(u)[np.argmax(~mo.valid), 0])
             raise NumericalError(f"the mechanism does not assemble at q = {bad:.9g}")
@@ -222,6 +257,68 @@ class PathForce:
                     vals = np.broadcast_to(np.asarray(fn(qgrid), float), grid.shape)
                     out += _roots(fn, grid, vals, self.q)
         return np.unique(np.array([x for x in out if 0.0 < x < period]))
+
+
+def _seeded(table: Motion, q: FloatArray, order: int, rates: FloatArray) -> Motion | None:
+    """The motion on ``q`` by Newton from the frames of ``table`` (None: fall back).
+
+    Each point starts from the cubic Hermite interpolation of the closure unknowns
+    between its two frames (t and dt/dq known there; beyond the last frame, a Taylor
+    step).  When a point does not close to the kinematics' tolerance, or the points
+    and frames taken in order fail the kinematics' own branch-jump test (Δt against
+    the trapezoid of dt/dq), the whole call falls back to ``model.motion``.
+    """
+    from mjstruct.kinematics.closure import Closure, derivatives, newton
+    from mjstruct.kinematics.evaluate import evaluate
+    from mjstruct.kinematics.tolerances import CLOSURE_TOL
+
+    model, sol = table.model, table.closure
+    assert sol is not None
+    # the table was solved at unit rate along q (the frames of dynamic_analysis): its
+    # t1, t2 are dt/dq and d²t/dq²
+    by_q = np.argsort(table.q[:, 0], kind="stable")
+    qt, tt, t1t, t2t = table.q[by_q, 0], sol.t[by_q], sol.t1[by_q], sol.t2[by_q]
+    x = q[:, 0]
+    a = np.clip(np.searchsorted(qt, x, side="right") - 1, 0, qt.size - 1)
+    b = np.minimum(a + 1, qt.size - 1)
+    h = (qt[b] - qt[a])[:, None]
+    d = (x - qt[a])[:, None]
+    with np.errstate(all="ignore"):
+        u = np.where(h > 0, d / h, 0.0)
+        hermite = (
+            (2 * u**3 - 3 * u**2 + 1) * tt[a]
+            + (u**3 - 2 * u**2 + u) * h * t1t[a]
+            + (-2 * u**3 + 3 * u**2) * tt[b]
+            + (u**3 - u**2) * h * t1t[b]
+        )
+        taylor = tt[a] + t1t[a] * d + t2t[a] * d**2 / 2
+        inside = (h > 0) & (d >= 0)
+        guess = np.where(inside, hermite, taylor)
+        t, err, rounds, ok = newton(model, q, guess, None, CLOSURE_TOL, 30)
+        if not ok.all():
+            return None
+        t1, t2 = derivatives(model, q, t, rates)
+        # the kinematics' branch-jump test on frames and points in order of q (pairs of
+        # two frames were the kinematics' to judge)
+        qa = np.concatenate([qt, x])
+        ta = np.concatenate([tt, t])
+        da = np.concatenate([t1t, t1 / rates[0]])
+        new = np.concatenate([np.zeros(qt.size, bool), np.ones(x.size, bool)])
+        o = np.argsort(qa, kind="stable")
+        qa, ta, da, new = qa[o], ta[o], da[o], new[o]
+        pred = 0.5 * (da[1:] + da[:-1]) * np.diff(qa)[:, None]
+        real = np.diff(ta, axis=0)
+        jump = np.abs(real - pred).max(axis=1) > 0.1 * np.abs(pred).max(axis=1) + 1e-3
+        if (jump & (new[1:] | new[:-1])).any():
+            return None
+        ev = evaluate(model, q, order=order, rates=rates, t=t, t1=t1, t2=t2)
+        valid = np.ones(q.shape[0], bool)
+        for pose in ev.poses.values():
+            valid &= np.isfinite(pose.r + sum(pose.A) + sum(pose.w))
+    if not valid.all():
+        return None
+    closure = Closure(t, t1, t2, err, rounds, ok, CLOSURE_TOL)
+    return Motion(model, q, order, ev, valid, closure, (), ())
 
 
 def _roots(
@@ -277,8 +374,8 @@ def _gauss(
     """Gauss–Legendre on pieces between frames and jumps, halving pieces until converged.
 
     A piece is split while its n- and n/2-node values differ by more than its share of
-    ``GAUSS_RTOL`` × ∫|f| (n = 32 on up to 200 pieces, else 12); all pending pieces
-    are evaluated in one call of ``f``.
+    ``GAUSS_RTOL`` × ∫|f| (n = 32 on up to 200 pieces, else 6: pieces between many
+    frames are short); all pending pieces are evaluated in one call of ``f``.
     """
     edges = np.unique(np.concatenate([np.linspace(0.0, period, GAUSS_PIECES + 1), targets, brk]))
     edges = edges[(edges >= 0.0) & (edges <= period)]
@@ -589,7 +686,7 @@ def _stop_point(
     """The path parameter in [a, b] where 2A + V₀q̇₀² reaches zero (q̇² turns negative)."""
     from scipy.optimize import brentq
 
-    xg, wg = np.polynomial.legendre.leggauss(2 * GAUSS_NODES)
+    xg, wg = np.polynomial.legendre.leggauss(STOP_NODES)
 
     def energy(x: float) -> float:
         if x <= a:
