@@ -416,7 +416,7 @@ def _complex(a: Any) -> ComplexArray:
     return np.asarray(a, dtype=np.complex128)
 
 
-def _anchor_positions(scene: Scene, k: int) -> dict[str, complex]:
+def anchor_positions(scene: Scene, k: int) -> dict[str, complex]:
     """Where every joint centre, point, block and guide end is drawn at frame ``k``."""
     return {key: complex(a[k]) for key, a in _anchor_arrays(scene).items()}
 
@@ -466,7 +466,7 @@ def draw_scene(
     ax.set_axis_off()
     colours = _link_colours(scene)
     ok = bool(motion.valid[k])
-    at = _anchor_positions(scene, k) if ok else {}
+    at = anchor_positions(scene, k) if ok else {}
     for j in m.joints:
         if j.kind == "R" and model.frame in j.links:
             _ground(ax, scene, j.id)

@@ -161,7 +161,7 @@ def plot_singular_zones(
     import matplotlib.pyplot as plt
 
     from mjstruct.kinematics.model import KinematicModel
-    from mjstruct.plot.drawing import _anchor_positions, draw_scene, scene_at
+    from mjstruct.plot.drawing import anchor_positions, draw_scene, scene_at
 
     if ax is None:
         fig, ax = plt.subplots(figsize=(8.4, 5.6))
@@ -179,7 +179,7 @@ def plot_singular_zones(
         last = int(scene.shown[-1])
         if not scene.motion.valid[last]:
             continue
-        pos = _anchor_positions(scene, last)
+        pos = anchor_positions(scene, last)
         seen += list(pos.values())
         if k > 0:
             for link in m.links:
