@@ -224,19 +224,13 @@ OWN_ARRAY_ALIASES = {
     "dynamics/time_terms.py",
     "kinematics/branches.py",
     "kinematics/checks.py",
-    "kinematics/clearance.py",
     "kinematics/closure.py",
     "kinematics/evaluate.py",
     "kinematics/jacobian.py",
     "kinematics/model.py",
     "kinematics/result.py",
-    "kinematics/singular.py",
-    "kinematics/singular_curve.py",
     "kinematics/solver.py",
     "kinematics/steps/base.py",
-    "plot/charts.py",
-    "plot/drawing.py",
-    "plot/forces.py",
 }
 
 

@@ -35,7 +35,6 @@ import math
 from collections.abc import Callable, Mapping
 
 import numpy as np
-import numpy.typing as npt
 
 from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.singular_curve import ClosureEquations
@@ -46,8 +45,7 @@ from mjstruct.kinematics.tolerances import (
     ZONE_DISC,
     ZONE_FLAT,
 )
-
-FloatArray = npt.NDArray[np.float64]
+from mjstruct.typing import FloatArray
 
 
 def formula3(l: float, r: float, clearance: float, stretched: bool) -> float:  # noqa: E741

@@ -76,8 +76,7 @@ from mjstruct.kinematics.tolerances import (
 )
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.mobility import dof_grubler
-
-FloatArray = npt.NDArray[np.float64]
+from mjstruct.typing import FloatArray
 
 KINDS = ("input_limit", "output_extreme", "change_point")
 

@@ -57,8 +57,7 @@ from mjstruct.kinematics.tolerances import (
     STEP_TURN,
 )
 from mjstruct.mechanism import Mechanism
-
-FloatArray = npt.NDArray[np.float64]
+from mjstruct.typing import FloatArray
 
 #: largest continuation step (in the normalised coordinates)
 MAX_STEP = 0.05

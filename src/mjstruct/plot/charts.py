@@ -37,12 +37,11 @@ import numpy.typing as npt
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.plot.layers import dynamics_available
+from mjstruct.typing import FloatArray
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-
-FloatArray = npt.NDArray[np.float64]
 
 #: |det| below this fraction of its largest value over the cycle is shaded near-singular
 NEAR_SINGULAR = 1e-3

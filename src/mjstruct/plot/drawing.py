@@ -41,14 +41,12 @@ from mjstruct.errors import MechanismError
 from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.plot.forces import FORCE_LAYERS, ForceLayer, force_layers
 from mjstruct.plot.layers import kinematic_order, parse_layers
+from mjstruct.typing import ComplexArray, IntArray
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
     from mjstruct.structure.assur import Decomposition
-
-ComplexArray = npt.NDArray[np.complex128]
-IntArray = npt.NDArray[np.int_]
 
 #: pin radius as a fraction of the mechanism's size
 PIN = 0.018

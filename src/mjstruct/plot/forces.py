@@ -20,13 +20,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.model import KinematicModel, Motion
-
-ComplexArray = npt.NDArray[np.complex128]
-FloatArray = npt.NDArray[np.float64]
+from mjstruct.typing import ComplexArray, FloatArray
 
 FORCE_LAYERS = ("loads", "inertia", "reactions")
 
