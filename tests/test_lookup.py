@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -198,9 +199,10 @@ def test_planted_temp_dir_of_another_user_is_not_trusted(
     planted.mkdir(mode=0o777)
     planted.chmod(0o777)  # writable by anyone: someone else could have put an index here
     files = sorted(catalog.atlas_dir().glob("*.jsonl"))
-    fake = planted / f"catalog-{catalog._catalog_hash(files)}.sqlite"
+    fake = planted / catalog._index_name(files)
     con = sqlite3.connect(fake)
-    catalog._fill(con, [])  # an index that knows no chain
+    meta = {"stat_key": catalog._stat_key(files), "catalog_hash": "0"}
+    catalog._fill(con, [], meta)  # an index that knows no chain
     con.close()
     assert catalog.index_path() is None  # refused; nowhere else to write
     assert _watt_name() == "Watt six-bar"  # answered from an index built in memory
@@ -259,11 +261,13 @@ def test_unwritable_cache_falls_back_and_interrupted_build_leaves_nothing(
     real_fill = catalog._fill
     calls: list[int] = []
 
-    def read_only_first(con: sqlite3.Connection, rows: list[tuple[object, ...]]) -> None:
+    def read_only_first(
+        con: sqlite3.Connection, rows: list[tuple[object, ...]], meta: dict[str, object]
+    ) -> None:
         calls.append(1)
         if len(calls) == 1:
             raise sqlite3.OperationalError("attempt to write a readonly database")
-        real_fill(con, rows)
+        real_fill(con, rows, meta)
 
     monkeypatch.setenv("HOME", str(tmp_path / "home"))
     monkeypatch.setattr(catalog, "_fill", read_only_first)
@@ -271,7 +275,9 @@ def test_unwritable_cache_falls_back_and_interrupted_build_leaves_nothing(
     assert not list((tmp_path / "mjstruct").glob("*"))  # no temporary file left
     assert len(list((tmp_path / "home" / ".cache" / "mjstruct").glob("*.sqlite"))) == 1
 
-    def interrupted(con: sqlite3.Connection, rows: list[tuple[object, ...]]) -> None:
+    def interrupted(
+        con: sqlite3.Connection, rows: list[tuple[object, ...]], meta: dict[str, object]
+    ) -> None:
         raise KeyboardInterrupt
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "other"))
@@ -330,3 +336,96 @@ def test_interrupted_catalog_writing_keeps_the_old_files(
     assert [json.loads(x)["id"] for x in (tmp_path / "f1-n04.jsonl").read_text().splitlines()] == [
         "F1n4-0001"
     ]
+
+
+def test_page_corruption_is_rebuilt(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from mjstruct.synthesis import catalog
+
+    path = catalog.index_path()
+    assert path is not None and path.stat().st_size > 16384 + 12
+    with path.open("r+b") as fh:  # damage inside a table page: the meta still reads
+        fh.seek(16384)
+        fh.write(b"\xff" * 12)
+    assert not catalog._intact(path)
+    watt = str(ROOT / "catalogs" / "examples" / "watt.json")
+    for _ in range(2):  # answered at once and afterwards, from a rebuilt index
+        assert main(["lookup", watt, "--json"]) == 0
+        assert json.loads(capsys.readouterr().out)["name"] == "Watt six-bar"
+    assert catalog.index_path() == path and catalog._intact(path)
+    assert not list(path.parent.glob("*.tmp"))
+
+
+def test_wrong_query_on_a_sound_index_is_raised_not_rebuilt() -> None:
+    import sqlite3
+
+    from mjstruct.synthesis import catalog
+
+    path = catalog.index_path()
+    assert path is not None
+    before = path.stat().st_ino
+    with pytest.raises(sqlite3.OperationalError, match="no such column"):
+        catalog.query("SELECT nonsense FROM chains")
+    assert path.stat().st_ino == before
+
+
+def test_warm_index_reads_no_catalog(monkeypatch: pytest.MonkeyPatch) -> None:
+    from mjstruct.synthesis import catalog
+
+    path = catalog.index_path()
+    assert path is not None
+
+    def no_reading(*args: object) -> None:
+        raise AssertionError("a warm lookup read the catalogs")
+
+    monkeypatch.setattr(catalog, "_catalog_hash", no_reading)
+    monkeypatch.setattr(catalog, "_catalog_rows", no_reading)
+    assert catalog.index_path() == path
+    assert _watt_name() == "Watt six-bar"
+
+
+def test_changed_catalog_stat_gets_a_new_index(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import shutil
+
+    from mjstruct.synthesis import catalog
+
+    atlas = tmp_path / "atlas"
+    shutil.copytree(catalog.atlas_dir(), atlas)
+    monkeypatch.setattr(catalog, "atlas_dir", lambda: atlas)
+    first = catalog.index_path()
+    assert first is not None
+    f = atlas / "f1-n04.jsonl"
+    st = f.stat()
+    os.utime(f, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
+    second = catalog.index_path()
+    assert second is not None and second != first and second.is_file()
+
+
+def test_two_cold_lookups_at_once(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    cmd = [
+        sys.executable,
+        "-m",
+        "mjstruct",
+        "lookup",
+        str(ROOT / "catalogs" / "examples" / "watt.json"),
+        "--json",
+    ]
+    procs = [
+        subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for _ in range(2)
+    ]
+    for p in procs:
+        out, err = p.communicate(timeout=120)
+        assert p.returncode == 0, err
+        assert json.loads(out)["name"] == "Watt six-bar" and err == ""
+    cache = tmp_path / "cache" / "mjstruct"
+    (index,) = cache.iterdir()  # one index, no temporary file
+    assert index.suffix == ".sqlite"
+    from mjstruct.synthesis import catalog
+
+    assert catalog._intact(index)

@@ -11,8 +11,11 @@ The sqlite index is not shipped: it is built on first use from the JSON Lines fi
 into ``$XDG_CACHE_HOME/mjstruct`` (else ``~/.cache/mjstruct``, else a private
 ``mjstruct-<uid>`` directory under the temporary directory; a directory that is a link,
 not this user's, or writable by others is skipped), named by a hash of the catalog
-files and the index version, so an edited catalog gets a new index.  A corrupt or
-truncated index is rebuilt atomically; with nowhere to write, it is built in memory.
+files' names, sizes and modification times and the index version, so an edited
+catalog gets a new index while a warm lookup reads no catalog.  The index records the
+hash of the catalogs' contents it was built from.  A corrupt or truncated index (page
+damage is found when a query fails and ``PRAGMA quick_check`` confirms it) is rebuilt
+atomically; with nowhere to write, it is built in memory.
 
 Examples
 --------
@@ -137,14 +140,36 @@ def read_catalog(F: int, n: int) -> list[dict[str, Any]]:
         return [json.loads(line) for line in fh if line.strip()]
 
 
-INDEX_VERSION = 2  # bump when the table layout changes: an older index is not reused
+INDEX_VERSION = 3  # bump when the table layout changes: an older index is not reused
+
+
+def _catalog_files() -> list[Path]:
+    return sorted(atlas_dir().glob("*.jsonl"))
 
 
 def _catalog_hash(files: list[Path]) -> str:
+    """Hash of the catalogs' contents (and the index version): the index's provenance."""
     h = hashlib.sha256(f"index v{INDEX_VERSION}".encode())
     for f in files:
         h.update(f.name.encode() + b"\0" + f.read_bytes())
     return h.hexdigest()[:16]
+
+
+def _stat_key(files: list[Path]) -> str:
+    """Key of the catalogs' (path, name, size, mtime_ns): a few stat calls, no reading.
+
+    A changed, added or removed catalog file changes the key and so the index name; the
+    contents are hashed only when an index is built.
+    """
+    h = hashlib.sha256(f"index v{INDEX_VERSION}\0{atlas_dir()}".encode())
+    for f in files:
+        st = f.stat()
+        h.update(f"\0{f.name}\0{st.st_size}\0{st.st_mtime_ns}".encode())
+    return h.hexdigest()[:16]
+
+
+def _index_name(files: list[Path]) -> str:
+    return f"catalog-{_stat_key(files)}.sqlite"
 
 
 def _cache_dirs() -> list[Path]:
@@ -177,8 +202,13 @@ def _private_dir(d: Path) -> bool:
     return not (hasattr(os, "getuid") and foreign)
 
 
-def _valid_index(path: Path, expected: int) -> bool:
-    """A regular file (not a link) holding a complete index of ``expected`` chains."""
+def _valid_index(path: Path, key: str) -> bool:
+    """A regular file (not a link) whose meta says: this index version, built from the
+    catalogs of stat key ``key``, with a catalog hash.
+
+    Cheap on purpose (no catalog is read): damage inside the table pages is found when
+    a query fails, which :func:`query` answers with ``PRAGMA quick_check`` and a rebuild.
+    """
     try:
         st = os.lstat(path)
     except OSError:
@@ -188,13 +218,29 @@ def _valid_index(path: Path, expected: int) -> bool:
     try:
         con = sqlite3.connect(_read_only_uri(path), uri=True)
         try:
-            (version,) = con.execute("SELECT value FROM meta WHERE key = 'version'").fetchone()
-            (rows,) = con.execute("SELECT count(*) FROM chains").fetchone()
+            meta = dict(con.execute("SELECT key, value FROM meta").fetchall())
         finally:
             con.close()
-    except (sqlite3.Error, TypeError):  # corrupt, truncated, foreign: rebuild
+    except sqlite3.Error:  # corrupt, truncated, foreign: rebuild
         return False
-    return bool(version == INDEX_VERSION and rows == expected)
+    return bool(
+        meta.get("version") == INDEX_VERSION
+        and meta.get("stat_key") == key
+        and isinstance(meta.get("catalog_hash"), str)
+    )
+
+
+def _intact(path: Path) -> bool:
+    """Whether sqlite finds the file's pages sound (``PRAGMA quick_check``)."""
+    try:
+        con = sqlite3.connect(_read_only_uri(path), uri=True)
+        try:
+            result = con.execute("PRAGMA quick_check").fetchall()
+        finally:
+            con.close()
+    except sqlite3.Error:
+        return False
+    return result == [("ok",)]
 
 
 def _read_only_uri(path: Path) -> str:
@@ -219,34 +265,39 @@ def _catalog_rows(files: list[Path]) -> list[tuple[Any, ...]]:
     return rows
 
 
-def index_path() -> Path | None:
+def index_path(rebuild: Path | None = None) -> Path | None:
     """Path of the sqlite index, building it first if needed (None: no place to write).
 
-    A missing, corrupt, truncated or outdated index is rebuilt in a private temporary
-    file of the same directory and moved into place atomically; a directory that
-    cannot be written, or is not this user's own, is skipped for the next one.
+    The index is named by the catalogs' stat key (sizes and modification times), so a
+    warm call only stats the catalogs and reads the index's meta table.  A missing,
+    corrupt, truncated or outdated index is rebuilt in a private temporary file of the
+    same directory and moved into place atomically; a directory that cannot be
+    written, or is not this user's own, is skipped for the next one.
+
+    Parameters
+    ----------
+    rebuild
+        An index found damaged by a query: rebuilt even though its meta looks right.
     """
-    files = sorted(atlas_dir().glob("*.jsonl"))
-    name = f"catalog-{_catalog_hash(files)}.sqlite"
-    rows: list[tuple[Any, ...]] | None = None
+    files = _catalog_files()
+    key = _stat_key(files)
+    name = f"catalog-{key}.sqlite"
     for d in _cache_dirs():
         if not _private_dir(d):
             continue
         path = d / name
-        if rows is None:
-            rows = _catalog_rows(files)
-        if _valid_index(path, len(rows)):
+        if path != rebuild and _valid_index(path, key):
             return path
         try:
-            _build_index(rows, path)
+            _build_index(files, key, path)
         except (OSError, sqlite3.Error):  # read-only directory, full disk: next place
             continue
-        if _valid_index(path, len(rows)):
+        if _valid_index(path, key):
             return path
     return None
 
 
-def _fill(con: sqlite3.Connection, rows: list[tuple[Any, ...]]) -> None:
+def _fill(con: sqlite3.Connection, rows: list[tuple[Any, ...]], meta: dict[str, Any]) -> None:
     con.execute(
         "CREATE TABLE chains (canonical TEXT PRIMARY KEY, id TEXT UNIQUE, name TEXT, "
         "F INT, n INT, K INT, V INT, cell TEXT, LA TEXT, MJA TEXT, code TEXT, "
@@ -255,18 +306,19 @@ def _fill(con: sqlite3.Connection, rows: list[tuple[Any, ...]]) -> None:
     con.executemany(f"INSERT INTO chains VALUES ({','.join('?' * len(_COLUMNS))})", rows)
     con.execute("CREATE INDEX chains_code ON chains (F, n, code_star)")
     con.execute("CREATE TABLE meta (key TEXT PRIMARY KEY, value)")
-    con.execute("INSERT INTO meta VALUES ('version', ?)", (INDEX_VERSION,))
+    con.executemany("INSERT INTO meta VALUES (?, ?)", [("version", INDEX_VERSION), *meta.items()])
     con.commit()
 
 
-def _build_index(rows: list[tuple[Any, ...]], path: Path) -> None:
+def _build_index(files: list[Path], key: str, path: Path) -> None:
     """Write the index to a new private file next to ``path``, then move it into place."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".catalog-", suffix=".tmp")
     os.close(fd)  # mkstemp made it (O_EXCL, mode 0600): no link is followed
     try:
         con = sqlite3.connect(tmp)
         try:
-            _fill(con, rows)
+            meta = {"stat_key": key, "catalog_hash": _catalog_hash(files)}
+            _fill(con, _catalog_rows(files), meta)
         finally:
             con.close()
         os.replace(tmp, path)  # atomic: concurrent first uses never see a half-built index
@@ -276,22 +328,44 @@ def _build_index(rows: list[tuple[Any, ...]], path: Path) -> None:
         raise
 
 
+def _memory_index() -> sqlite3.Connection:
+    files = _catalog_files()
+    con = sqlite3.connect(":memory:")
+    _fill(con, _catalog_rows(files), {"stat_key": "", "catalog_hash": _catalog_hash(files)})
+    return con
+
+
+def _run(con: sqlite3.Connection, sql: str, params: tuple[Any, ...]) -> list[dict[str, Any]]:
+    con.row_factory = sqlite3.Row
+    try:
+        return [dict(r) for r in con.execute(sql, params)]
+    finally:
+        con.close()
+
+
 def query(sql: str, params: tuple[Any, ...] = ()) -> list[dict[str, Any]]:
     """Run a read-only query on the index; rows as dicts (LA, MJA, joints decoded).
 
-    With no writable cache anywhere the index is built in memory for this query.
+    With no writable cache anywhere the index is built in memory for this query.  A
+    query that fails on a damaged index (``PRAGMA quick_check`` not ok) rebuilds it
+    and runs again; a failure on a sound index (a wrong query) is raised.
     """
     path = index_path()
     if path is None:
-        con = sqlite3.connect(":memory:")
-        _fill(con, _catalog_rows(sorted(atlas_dir().glob("*.jsonl"))))
+        rows = _run(_memory_index(), sql, params)
     else:
-        con = sqlite3.connect(_read_only_uri(path), uri=True)
-    con.row_factory = sqlite3.Row
-    try:
-        rows = [dict(r) for r in con.execute(sql, params)]
-    finally:
-        con.close()
+        try:
+            rows = _run(sqlite3.connect(_read_only_uri(path), uri=True), sql, params)
+        except sqlite3.DatabaseError:
+            if _intact(path):
+                raise
+            fresh = index_path(rebuild=path)
+            con = (
+                _memory_index()
+                if fresh is None
+                else sqlite3.connect(_read_only_uri(fresh), uri=True)
+            )
+            rows = _run(con, sql, params)
     for r in rows:
         for k in ("LA", "MJA", "joints"):
             if k in r:
