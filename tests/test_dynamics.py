@@ -346,3 +346,123 @@ def test_one_kinematic_solution_per_analysis(monkeypatch, mode):
         for link, comps in per.items():
             for c, v in comps.items():
                 assert np.abs(r.reactions[j][link][c] - v).max() < 1e-9 * big
+
+
+def _bad_file(tmp_path, change) -> str:
+    d = seed_dict()
+    change(d)
+    f = tmp_path / "bad.json"
+    f.write_text(json.dumps(d))
+    return str(f)
+
+
+@pytest.mark.parametrize("text", ["1/0", "log(q-q)", "M/(q-q)", "log(0)", "1/(2*q - q - q)"])
+def test_non_finite_load_expression_is_refused_at_parse_time(tmp_path, text):
+    def change(d):
+        d["loads"][0]["moment"] = text
+
+    p = run_cli(_bad_file(tmp_path, change), "--speed", "1", "--json")
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.count("\n") == 1 and "loads[0].moment" in p.stderr
+    assert "not finite" in p.stderr and "internal error" not in p.stderr
+
+
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["--qdot0", "1e200"], "--qdot0"),
+        (["--speed", "1e308"], "--speed"),
+        (["--speed=-1e155"], "--speed"),
+    ],
+)
+def test_overflowing_speeds_are_bad_input(args, flag):
+    p = run_cli(str(SEED), *args, "--frames", "12", "--json")
+    assert p.returncode == 2 and p.stdout == ""
+    assert p.stderr.startswith(f"mjstruct dynamics: {flag}:") or f"{flag}:" in p.stderr
+    assert "overflows" in p.stderr and p.stderr.count("\n") == 1
+
+
+def test_steady_parameter_of_a_mechanism_that_does_not_turn_round_is_bad_input(tmp_path):
+    def change(d):  # L2 = L1/2: the crank cannot make a full turn
+        d["joints"][2]["at"] = [1.5, 0.0]
+        d["joints"][3]["at"] = [1.5, 0.0]
+
+    f = _bad_file(tmp_path, change)
+    for mode in (["--speed", "1"], ["--speed", "-1"]):
+        p = run_cli(f, *mode, "--frames", "36", "--json")
+        assert p.returncode == 2, p.stderr
+        assert p.stderr.count("\n") == 1 and "parameters.p" in p.stderr
+        assert "does not assemble" in p.stderr
+    # with p given, the frames that assemble are solved, the rest null, no numpy warning
+    d = json.loads(Path(f).read_text())
+    d["parameters"]["p"] = 1.0
+    Path(f).write_text(json.dumps(d))
+    p = run_cli(f, "--speed", "1", "--frames", "36", "--json")
+    assert p.returncode == 0 and p.stderr == ""
+    obj = json.loads(p.stdout)
+    assert any("does not assemble" in w for w in obj["warnings"])
+    assert None in obj["driving"]["O1"]
+
+
+def _motor_file(tmp_path) -> str:
+    def change(d):
+        d["loads"] = [
+            {"link": "1", "moment": "40*(1 - qdot/20)"},
+            {"link": "3", "force": ["-5*qdot", "0"]},
+        ]
+        d["parameters"] = {}
+
+    return _bad_file(tmp_path, change)
+
+
+def test_time_honours_an_explicit_frames(tmp_path):
+    f = _motor_file(tmp_path)
+    p = run_cli(f, "--time", "0.05", "--json")
+    assert p.returncode == 0, p.stderr
+    assert len(json.loads(p.stdout)["t"]) == 201  # the default output times
+    p = run_cli(f, "--time", "0.05", "--frames", "360", "--json")
+    assert p.returncode == 0, p.stderr
+    assert len(json.loads(p.stdout)["t"]) == 360
+
+
+def test_time_errors_name_the_flags(tmp_path):
+    f = _motor_file(tmp_path)
+    p = run_cli(f, "--time", "-1")
+    assert p.returncode == 2 and "--time" in p.stderr and "t_end" not in p.stderr
+    p = run_cli(f, "--time", "1", "--solver", "X")
+    assert p.returncode == 2 and "--solver" in p.stderr and "method" not in p.stderr
+    import mjstruct.dynamics.time as time_module
+
+    assert not hasattr(time_module, "FLAGS") and not hasattr(time_module, "time_command")
+
+
+def test_q_drivers_carries_every_driver(tmp_path):
+    d = json.loads((EXAMPLES / "kin-five-bar.json").read_text())
+    d["inertia"] = {"1": {"mass": 1.0}, "2": {"mass": 2.0}, "3": {"mass": 1.5}, "4": {"mass": 1}}
+    f = tmp_path / "five.json"
+    f.write_text(json.dumps(d))
+    p = run_cli(str(f), "--speed", "2", "--frames", "8", "--json")
+    assert p.returncode == 0, p.stderr
+    obj = json.loads(p.stdout)
+    model = KinematicModel.build(read_mechanism(f))
+    assert list(obj["q_drivers"]) == list(model.drivers) == ["O1", "O2"]
+    for i, jid in enumerate(model.drivers):
+        expected = model.q_ref[i] + 2 * np.pi * np.arange(8) / 8
+        assert np.allclose(obj["q_drivers"][jid], expected, rtol=0, atol=1e-15)
+    assert obj["q"] == obj["q_drivers"]["O1"]
+
+
+def test_a_model_of_another_mechanism_or_other_drivers_is_refused():
+    seed = read_mechanism(SEED)
+    other = read_mechanism(EXAMPLES / "zhivago-dynamics.json")
+    with pytest.raises(MechanismError, match=r"^model: "):
+        dynamic_analysis(seed, speed=1.0, frames=8, model=KinematicModel.build(other))
+    with pytest.raises(MechanismError, match=r"^drivers: "):
+        dynamic_analysis(
+            seed, speed=1.0, frames=8, drivers=["O4"], model=KinematicModel.build(seed)
+        )
+    # the same drivers as the model's are fine
+    r = dynamic_analysis(
+        seed, speed=1.0, frames=8, drivers=["O1"], model=KinematicModel.build(seed)
+    )
+    assert r.drivers == ("O1",)

@@ -7,13 +7,36 @@ import argparse
 import math
 from typing import TYPE_CHECKING
 
-from mjstruct.cli.output import driver_list, emit_json, emit_text
+from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
 
 DEFAULT_FRAMES = 360
+#: output times of --time when --frames is not given
+DEFAULT_TIMES = 201
+
+#: the flag of each parameter of :func:`~mjstruct.dynamics.analysis.dynamic_analysis`
+FLAGS = {
+    "speed": "--speed",
+    "qdot0": "--qdot0",
+    "frames": "--frames",
+    "drivers": "--drivers",
+    "method": "--method",
+    "n": "--n",
+    "harmonics": "--harmonics",
+}
+
+#: the flag of each parameter of :func:`~mjstruct.dynamics.time.motion_in_time`
+TIME_FLAGS = {
+    "t_end": "--time",
+    "frames": "--frames",
+    "qdot0": "--start-speed",
+    "method": "--solver",
+    "rtol": "--rtol",
+    "drivers": "--drivers",
+}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -29,8 +52,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--frames",
         type=int,
-        default=DEFAULT_FRAMES,
-        help="frames over one cycle (default 360; output times of --time: 201)",
+        default=None,
+        help=f"frames over one cycle (default {DEFAULT_FRAMES}); output times of --time "
+        f"(default {DEFAULT_TIMES})",
     )
     p.add_argument("--drivers", help="generalised coordinates J1,J2 (default: the file's)")
     p.add_argument(
@@ -58,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.dynamics.report import render, write_csv
     from mjstruct.io import read_mechanism
 
-    if args.frames < 1:
+    if args.frames is not None and args.frames < 1:
         raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
     if args.speed is not None and (not math.isfinite(args.speed) or args.speed == 0):
         raise MechanismError("--speed: must be a finite nonzero number")
@@ -80,24 +104,18 @@ def run(args: argparse.Namespace) -> int:
     outputs = set(OUTPUTS)
     if args.speed is not None and args.json and not args.csv:
         outputs.discard("coefficients")  # V, W, Q are not in the --speed JSON
-    try:
+    with flag_names(**FLAGS):
         r = dynamic_analysis(
             m,
             outputs=outputs,
             speed=args.speed,
             qdot0=args.qdot0,
-            frames=args.frames,
+            frames=DEFAULT_FRAMES if args.frames is None else args.frames,
             drivers=drivers,
             method=args.method,
             n=args.n,
             harmonics=args.harmonics,
         )
-    except MechanismError as exc:
-        text = str(exc)
-        for name in ("speed", "qdot0", "frames", "drivers"):
-            if text.startswith(f"{name}:"):
-                raise MechanismError(f"--{text}") from None
-        raise
     if args.csv:
         try:
             write_csv(r, args.csv)
@@ -111,18 +129,18 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_time(args: argparse.Namespace, m: Mechanism, drivers: list[str] | None) -> int:
-    from mjstruct.dynamics.time import time_command, time_csv, time_json, time_report
+    from mjstruct.dynamics.time import motion_in_time, time_csv, time_json, time_report
 
-    frames = args.frames if args.frames != DEFAULT_FRAMES else 201
-    r = time_command(
-        m,
-        args.time,
-        frames=frames,
-        start_speed=args.start_speed,
-        solver=args.solver,
-        rtol=args.rtol,
-        drivers=drivers,
-    )
+    with flag_names(**TIME_FLAGS):
+        r = motion_in_time(
+            m,
+            args.time,
+            frames=DEFAULT_TIMES if args.frames is None else args.frames,
+            qdot0=0.0 if args.start_speed is None else args.start_speed,
+            method="auto" if args.solver is None else args.solver,
+            rtol=1e-8 if args.rtol is None else args.rtol,
+            drivers=drivers,
+        )
     if args.csv:
         try:
             with open(args.csv, "w") as fh:

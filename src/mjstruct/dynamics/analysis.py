@@ -45,7 +45,7 @@ from mjstruct.dynamics.reactions import (
     system_matrix,
     unknowns,
 )
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
 
@@ -119,6 +119,8 @@ class DynamicsResult:
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (lists; NaN as null)."""
         out: dict[str, Any] = {"q": _list(self.q[:, 0])}
+        # q is the first driver's (the contract's); every driver's coordinate here
+        out["q_drivers"] = {d: _list(self.q[:, i]) for i, d in enumerate(self.drivers)}
         if self.mode != "speed" and self.V is not None:
             out["V"] = _list(self.V)
             out["W"] = _list(self.W)
@@ -191,7 +193,8 @@ def dynamic_analysis(
     parameters : values overriding the file's (the unknown included).
     method, n, harmonics : the work integral's method (see
         :mod:`mjstruct.dynamics.equation`).
-    model : a kinematic model of ``mechanism`` to reuse.
+    model : a kinematic model of ``mechanism`` to reuse (its drivers are the
+        analysis's: ``drivers`` must then be None or the same).
 
     Raises
     ------
@@ -236,6 +239,17 @@ def dynamic_analysis(
         )
     if model is None:
         model = KinematicModel.build(mechanism, drivers)
+    else:
+        if model.mechanism is not mechanism and model.mechanism != mechanism:
+            raise MechanismError(
+                f"model: a kinematic model of {model.mechanism.name or 'another mechanism'!r}, "
+                f"not of {mechanism.name or 'this mechanism'!r}"
+            )
+        if drivers is not None and tuple(drivers) != model.drivers:
+            raise MechanismError(
+                f"drivers: {', '.join(drivers)} differ from the model's "
+                f"({', '.join(model.drivers)}); give drivers or a model built with them"
+            )
     D = len(model.drivers)
     if D == 0:
         raise MechanismError("drivers: dynamics needs at least one driver")
@@ -245,6 +259,12 @@ def dynamic_analysis(
     if need_forces:
         check_dimensions(model)
 
+    for name, w in (("speed", speed), ("qdot0", qdot0)):
+        # W² × size must be a float: the accelerations and the kinetic energy hold it
+        with np.errstate(all="ignore"):
+            big = np.float64(w) * np.float64(w) * model.scale if w is not None else 0.0
+        if w is not None and np.isfinite(w) and not np.isfinite(big):
+            raise MechanismError(f"{name}: {w:g} overflows the accelerations (W² × size)")
     if speed is not None:
         if not np.isfinite(speed) or speed == 0:
             raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
@@ -257,7 +277,21 @@ def dynamic_analysis(
         if mo is not None and mo.valid.all():
             path = path.with_table(mo)
         if data.unknown is not None:
-            params, cycle, err = steady_parameter(path, speed, method, n, harmonics)
+            if mo is not None and not mo.valid.all():
+                raise MechanismError(
+                    f"parameters.{data.unknown}: steady motion needs a full cycle, and the "
+                    "mechanism does not assemble at q = "
+                    f"{float(qs[np.argmax(~mo.valid), 0]):.9g} (give {data.unknown} a value)"
+                )
+            try:
+                params, cycle, err = steady_parameter(path, speed, method, n, harmonics)
+            except NumericalError as exc:
+                if "does not assemble" not in str(exc):
+                    raise
+                raise MechanismError(
+                    f"parameters.{data.unknown}: steady motion needs a full cycle, and {exc} "
+                    f"(give {data.unknown} a value)"
+                ) from None
         else:
             params, cycle, err = data.parameter_values(), None, None
         qd = np.full(qs.shape, float(speed))

@@ -85,8 +85,8 @@ def parse_expression(text: Any, parameters: Collection[str], where: str) -> symp
     Raises
     ------
     MechanismError
-        not a number or a string, unparsable text, an unknown symbol or function, or
-        a construct outside the whitelist.
+        not a number or a string, unparsable text, an unknown symbol or function, a
+        construct outside the whitelist, or a non-finite constant (``1/0``, ``log(0)``).
     """
     import sympy
 
@@ -107,6 +107,9 @@ def parse_expression(text: Any, parameters: Collection[str], where: str) -> symp
     expr = builder.build(tree.body)
     if not isinstance(expr, sympy.Expr):
         raise MechanismError(f"{where}: {text!r} is a condition, not a number")
+    # sympy folds 1/0, log(0), oo - oo into zoo, oo, nan: no float means that
+    if any(expr.has(c) for c in (sympy.zoo, sympy.oo, -sympy.oo, sympy.nan)):
+        raise MechanismError(f"{where}: {text!r} is not finite (a division by zero or a pole)")
     return expr
 
 

@@ -88,6 +88,11 @@ def render(r: DynamicsResult) -> str:
             lines.append(f"  {jid} on {link}: {_fmt(size)} at q = {_fmt(qk)}")
     if r.residual is not None:
         lines.append(f"check (excluded equation, relative residual): {_fmt(r.check)}")
+    if r.accuracy is not None and np.isfinite(r.accuracy).any():
+        worst = float(r.accuracy[np.isfinite(r.accuracy)].max())
+        lines.append(
+            f"accuracy of the joint loads (condition x machine epsilon, relative): {_fmt(worst)}"
+        )
     for w in r.warnings:
         lines.append(f"warning: {w}")
     return "\n".join(lines)

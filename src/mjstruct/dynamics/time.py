@@ -610,50 +610,6 @@ def time_report(r: TimeMotion, rows: int = 11) -> str:
     return "\n".join(lines)
 
 
-#: the ``mjstruct dynamics`` flag of each parameter of :func:`motion_in_time`
-FLAGS = {
-    "t_end": "--time",
-    "frames": "--frames",
-    "qdot0": "--start-speed",
-    "method": "--solver",
-    "rtol": "--rtol",
-    "drivers": "--drivers",
-}
-
-
-def time_command(
-    mechanism: Mechanism,
-    t_end: float,
-    *,
-    frames: int = 360,
-    start_speed: float | None = None,
-    solver: str | None = None,
-    rtol: float | None = None,
-    drivers: Iterable[str] | None = None,
-) -> TimeMotion:
-    """:func:`motion_in_time` for ``mjstruct dynamics FILE --time T``: errors name flags.
-
-    The arguments are the parsed flags (None: the default); a message naming a
-    parameter is rewritten to name its flag (``t_end: ...`` becomes ``--time: ...``).
-    """
-    try:
-        return motion_in_time(
-            mechanism,
-            t_end,
-            frames=frames,
-            qdot0=0.0 if start_speed is None else start_speed,
-            method="auto" if solver is None else solver,
-            rtol=1e-8 if rtol is None else rtol,
-            drivers=drivers,
-        )
-    except MechanismError as exc:
-        text = str(exc)
-        name = text.split(":", 1)[0]
-        if name in FLAGS:
-            raise MechanismError(FLAGS[name] + text[len(name) :]) from None
-        raise
-
-
 def time_csv(r: TimeMotion) -> str:
     """One row per output time: ``t, q, qdot, qddot, V, Q, work`` (empty where not finite)."""
     cols = [("t", r.t), ("q", r.q), ("qdot", r.qdot), ("qddot", r.qddot)]
