@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import stat
 import sys
 import tomllib
@@ -122,7 +123,42 @@ def parse_mechanism(text: str, toml: bool = False, source: str = "input") -> Mec
         raise MechanismError(f"{source}: nested too deeply to be a mechanism") from None
     except ValueError as exc:  # an integer beyond Python's digit limit
         raise MechanismError(f"{source}: unreadable number ({exc})") from None
+    if _SUSPECT_NUMBER.search(text):  # cheap gate: walk the data only when it may hold one
+        _refuse_unrepresentable(data)
     return mechanism_from_dict(data)
+
+
+# A number a double cannot hold has 309+ digits, a 3-digit exponent, or is inf/nan
+# (JSON's Infinity/NaN, TOML's inf/nan); the gate may match more (a name "info"): the
+# walk decides.
+_SUSPECT_NUMBER = re.compile(r"[0-9_]{300,}|[eE][+-]?[0-9_]{3,}|inf|nan", re.IGNORECASE)
+# integers are read as strings where an id is expected: any size is a valid id
+_ID_KEYS = frozenset({"id", "link", "links", "frame", "drivers"})
+
+
+def _refuse_unrepresentable(data: Any) -> None:
+    """Refuse a number no double can hold, naming its field (``parameters.p``).
+
+    Done once where files are parsed, so every reader (geometry, dynamics data) gets
+    finite doubles: 10**400 or 1e400 is bad input, never an OverflowError later.
+    """
+    stack: list[tuple[Any, str, bool]] = [(data, "", False)]
+    while stack:
+        value, where, is_id = stack.pop()
+        if isinstance(value, Mapping):
+            for k, v in value.items():
+                stack.append((v, f"{where}.{k}" if where else str(k), str(k) in _ID_KEYS))
+        elif isinstance(value, list):
+            stack.extend((v, f"{where}[{i}]", is_id) for i, v in enumerate(value))
+        elif isinstance(value, float) and not math.isfinite(value):
+            raise MechanismError(f"{where}: not a finite number (beyond a double, inf or nan)")
+        elif isinstance(value, int) and not isinstance(value, bool) and not is_id:
+            try:
+                float(value)
+            except OverflowError:
+                raise MechanismError(
+                    f"{where}: number too large for a double (magnitude at most 1.8e308)"
+                ) from None
 
 
 def _ident(value: Any, where: str) -> str:

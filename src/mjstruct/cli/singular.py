@@ -27,9 +27,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
     from mjstruct.kinematics.singular import singular_analysis
+    from mjstruct.kinematics.tolerances import MAX_CLEARANCE
 
     if args.clearance is not None and not (math.isfinite(args.clearance) and args.clearance >= 0):
         raise MechanismError(f"--clearance: must be a finite number >= 0, got {args.clearance}")
+    if args.clearance is not None and args.clearance > MAX_CLEARANCE:
+        # the zone formulas square (r + D): beyond this the square overflows a double
+        raise MechanismError(
+            f"--clearance: {args.clearance:g} is too large (at most {MAX_CLEARANCE:g})"
+        )
     if args.exact and args.clearance is None:
         raise MechanismError("--exact: needs --clearance")
     m = read_mechanism(args.file)

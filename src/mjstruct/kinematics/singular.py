@@ -67,6 +67,7 @@ from mjstruct.kinematics.tolerances import (
     DISPLAY_ZERO,
     FOLD_TOL,
     FULL_TURN_SLACK,
+    MAX_CLEARANCE,
     NEAR_CHANGE_POINT,
     Q_TOUCH,
     ROOT_ABS,
@@ -362,6 +363,8 @@ def singular_analysis(
             raise MechanismError(f"output: {output!r} is the frame")
     if clearance is not None and not (math.isfinite(clearance) and clearance >= 0):
         raise MechanismError(f"clearance: must be a finite number >= 0, got {clearance}")
+    if clearance is not None and clearance > MAX_CLEARANCE:
+        raise MechanismError(f"clearance: {clearance:g} is too large (at most {MAX_CLEARANCE:g})")
     driver = m.drivers[0]
     eq = ClosureEquations.build(m, driver, output)
     lengths = fourbar_lengths(m, eq)

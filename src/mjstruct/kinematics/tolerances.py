@@ -113,3 +113,5 @@ ZONE_CLOSURE = 1e-10
 ZONE_DISC = 1e-8
 #: values below this are shown as 0 in the text report (no "-0.000000")
 DISPLAY_ZERO = 1e-9
+#: largest clearance accepted: the zone formulas square (r + D), which must fit a double
+MAX_CLEARANCE = 1e150
