@@ -352,3 +352,23 @@ def test_any_toml_file_is_an_answer_or_bad_input(tmp_path_factory, pieces, comma
         status = main([command, str(path)])
     assert status in (0, 2), err.getvalue()
     assert err.getvalue().count("\n") == (status == 2)
+
+
+@pytest.mark.parametrize("command", ["analyze", "lookup", "kinematics", "singular", "convert"])
+def test_paths_in_error_messages_cannot_drive_the_terminal(tmp_path, capsys, command):
+    name = str(tmp_path / "nonexist\x1b[31m\x07\nsecond line\x9b.json")
+    extra = ["--to", "toml"] if command == "convert" else []
+    status, out, err = _cli([command, name, *extra], capsys)
+    assert (status, out) == (2, "")
+    assert err.count("\n") == 1 and err.endswith("no such file\n")
+    assert not any(c in err for c in "\x1b\x07\x9b")
+    assert "nonexist\\x1b[31m\\x07\\x0asecond line\\x9b" in err
+
+
+def test_ids_in_error_messages_are_shown_escaped(tmp_path, capsys):
+    bad = dict(FOUR_BAR, drivers=["\x1b]0;owned\x07"])
+    path = tmp_path / "m.json"
+    path.write_text(json.dumps(bad))
+    status, _, err = _cli(["assur", str(path)], capsys)
+    assert status == 2 and "\x1b" not in err and "\x07" not in err
+    assert "\\x1b]0;owned\\x07" in err and err.count("\n") == 1

@@ -6,7 +6,6 @@ vectors, paths).  Also the arguments and checks that ``animate`` and ``plot`` sh
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.cli.output import driver_list
@@ -62,8 +61,10 @@ def finish(
 
         emit_json({"output": args.output, **info, "warnings": warnings})
     else:
-        for w in warnings:
-            sys.stderr.write(f"mjstruct {command}: warning: {w}\n")
+        from mjstruct.cli.output import emit_error
+
+        for w in warnings:  # a warning names joints and links of the file: sanitised
+            emit_error(f"mjstruct {command}: warning: {w}")
     return 0
 
 

@@ -15,6 +15,7 @@ import threading
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
+from mjstruct.cli.output import emit_error
 from mjstruct.errors import MechanismError, NumericalError
 
 COMMANDS: dict[str, str] = {
@@ -36,7 +37,7 @@ COMMANDS: dict[str, str] = {
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:  # one line, exit 2
-        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        emit_error(f"{self.prog}: error: {message}")
         raise SystemExit(2)
 
 
@@ -85,23 +86,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args._run(args))
     except _Terminated:
-        sys.stderr.write("mjstruct: terminated\n")
+        emit_error("mjstruct: terminated")
         return 143
     except MechanismError as exc:
-        sys.stderr.write(f"mjstruct {args.command}: {exc}\n")
+        emit_error(f"mjstruct {args.command}: {exc}")
         return 2
     except NumericalError as exc:
-        sys.stderr.write(f"mjstruct {args.command}: numerical trouble: {exc}\n")
+        emit_error(f"mjstruct {args.command}: numerical trouble: {exc}")
         return 1
     except KeyboardInterrupt:
-        sys.stderr.write("mjstruct: interrupted\n")
+        emit_error("mjstruct: interrupted")
         return 130
     except BrokenPipeError:
         return 0
     except Exception as exc:  # an internal error still gets one line, not a traceback
-        sys.stderr.write(
-            f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}\n"
-        )
+        emit_error(f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}")
         return 1
     finally:
         if previous is not None:

@@ -58,16 +58,26 @@ def emit_json(obj: Any) -> None:
 
 
 _CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+_CONTROL_ALL = re.compile("[\x00-\x1f\x7f-\x9f]")
 
 
-def printable(text: str) -> str:
+def printable(text: str, one_line: bool = False) -> str:
     r"""``text`` with control characters (terminal escapes) shown as ``\xNN``; newlines
-    and tabs kept.
+    and tabs kept unless ``one_line`` (an error message: a file name holding a newline
+    must not split it).
 
     >>> printable("Watt\x1b[31m six-bar\n")
     'Watt\\x1b[31m six-bar\n'
+    >>> printable("/tmp/a\nb\x1b[31m: no such file", one_line=True)
+    '/tmp/a\\x0ab\\x1b[31m: no such file'
     """
-    return _CONTROL.sub(lambda c: f"\\x{ord(c.group()):02x}", text)
+    pattern = _CONTROL_ALL if one_line else _CONTROL
+    return pattern.sub(lambda c: f"\\x{ord(c.group()):02x}", text)
+
+
+def emit_error(text: str) -> None:
+    """One line on standard error; paths and names in it cannot drive the terminal."""
+    sys.stderr.write(printable(text, one_line=True) + "\n")
 
 
 def emit_text(text: str) -> None:
