@@ -6,8 +6,12 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from mjstruct.cli.output import driver_list, emit_json, flag_names
+
+if TYPE_CHECKING:
+    from mjstruct.mechanism import Mechanism
 
 _FORMATS = ("json", "toml", "pyslvs", "pyslvs-project", "graphml", "node-link")
 
@@ -53,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
     drivers = driver_list(args.drivers, m)
     if drivers is not None:
         m = m.with_drivers(drivers)
+        with flag_names(drivers="--drivers"):
+            _check_drivers(m)  # before anything is written: no over-driven file
     if args.output is None:
         sys.stdout.write(render(m, args.target_format))
         return 0
@@ -72,3 +78,28 @@ def run(args: argparse.Namespace) -> int:
             }
         )
     return 0
+
+
+def _check_drivers(m: Mechanism) -> None:
+    """The drivers of ``m`` checked as every command checks them.
+
+    The generic check (pebble game) first; when it refuses a mechanism with geometry,
+    its reference configuration decides (a parallelogram's redundant constraint is
+    invisible to the pebble game), as for ``kinematics``.
+    """
+    from mjstruct.errors import MechanismError
+    from mjstruct.structure.drivers import validate_drivers
+
+    try:
+        validate_drivers(m)
+    except MechanismError as generic:
+        if m.frame is None or any(j.at is None for j in m.joints):
+            raise
+        from mjstruct.kinematics.planner import plan_kinematics
+
+        try:
+            plan_kinematics(m)
+        except MechanismError as special:
+            # a refusal for another reason (no assembly, a group not solvable) says
+            # nothing about the drivers: the generic refusal stands
+            raise (special if str(special).startswith("drivers:") else generic) from None
