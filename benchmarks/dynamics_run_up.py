@@ -13,7 +13,8 @@ above 1e6) runs the explicit methods at the loosest tolerance only: their step c
 set by stability, not by the tolerance.
 
 Run: ``python benchmarks/dynamics_run_up.py [--plot docs/img/dyn-time-error-vs-time.png]
-[--run-up-plot docs/img/dyn-time-run-up.png]``
+[--run-up-plot docs/img/dyn-time-run-up.png]`` (about 4 minutes), or ``--quick`` for a
+smoke run under a minute (two tolerances, one repeat, no explicit very stiff run).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from timing import median_time, race
 METHODS = ("RK45", "DOP853", "Radau", "BDF")
 EXPLICIT = ("RK45", "DOP853")
 TOLERANCES = (1e-3, 1e-5, 1e-7, 1e-9, 1e-11)
+QUICK_TOLERANCES = (1e-3, 1e-7)
 T_END = 3.0
 FRAMES = 201
 W0 = 20.0  # the motor's no-load speed, rad/s
@@ -61,7 +63,15 @@ def main() -> None:
     ap.add_argument("--plot", help="write the log-log error-vs-time figure here")
     ap.add_argument("--run-up-plot", help="write q̇(t) of the three run-ups here")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help="a smoke run (under a minute): tolerances 1e-3 and 1e-7, one repeat, "
+        "the very stiff case with the implicit methods only",
+    )
     args = ap.parse_args()
+    tolerances = QUICK_TOLERANCES if args.quick else TOLERANCES
+    repeat = 1 if args.quick else args.repeat
 
     motion_in_time(model_for(1.0), 0.01, estimate=False)  # imports and first calls
     rows: list[dict[str, Any]] = []
@@ -84,11 +94,15 @@ def main() -> None:
         print(
             f"  {'method':7} {'rtol':>7} {'steps':>7} {'f evals':>8} {'time s':>8} {'error q':>9}"
         )
-        for rtol in TOLERANCES:
+        for rtol in tolerances:
             methods = [
                 x
                 for x in METHODS
-                if not (case == "very stiff" and x in EXPLICIT and rtol != TOLERANCES[0])
+                if not (
+                    case == "very stiff"
+                    and x in EXPLICIT
+                    and (args.quick or rtol != tolerances[0])
+                )
             ]
             results: dict[str, Any] = {}
 
@@ -105,7 +119,7 @@ def main() -> None:
             # the very stiff explicit runs (tens of seconds) once each
             rotating = [x for x in methods if not (case == "very stiff" and x in EXPLICIT)]
             calls = [functools.partial(run, x) for x in rotating]
-            secs = dict(zip(rotating, race(calls, args.repeat), strict=True))
+            secs = dict(zip(rotating, race(calls, repeat), strict=True))
             for x in methods:
                 if x not in secs:
                     secs[x] = median_time(functools.partial(run, x), repeat=1)[0]
