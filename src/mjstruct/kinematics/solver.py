@@ -72,6 +72,14 @@ def kinematic_analysis(
         (default: ``MJSTRUCT_MAX_MEMORY_BYTES`` or 2 GiB; see
         :mod:`mjstruct.kinematics.memory`).
     """
+    from mjstruct.errors import expect_ids, expect_instance, expect_int, expect_number
+
+    expect_instance(model, "model", (KinematicModel, Mechanism), "a Mechanism or KinematicModel")
+    expect_ids(drivers, "drivers")
+    frames = expect_int(frames, "frames", 1)
+    speed = expect_number(speed, "speed", finite=False)
+    stroke = expect_number(stroke, "stroke", finite=False)
+    tol = expect_number(tol, "tol", finite=False)
     if isinstance(model, KinematicModel):
         if drivers is not None or decomposition is not None:
             raise MechanismError(
