@@ -1,11 +1,11 @@
 """Speed of the dynamics plug-in, measured side by side in one run.
 
-* Zhivago mechanism, free motion from q̇₀ = 20 (everything the seed computes: positions,
+* Zhivago mechanism, free motion from q̇₀ = 20 (everything [Panasenko 2025] computes: positions,
   analogs, V, W, Q, the steady parameter, q̇, q̈, all reactions, the check) at 36 and
   3600 frames; targets 20 ms and 0.2 s.  The kinematics alone (one ``model.motion`` of
   the same frames, order 2) is timed beside it: it bounds what the dynamics can reach.
   The same at constant speed (``--speed``: the steady parameter, reactions, check).
-* The seed-000 slider-crank, the same at 36 and 3600 frames.
+* The slider-crank of [Panasenko 2025], the same at 36 and 3600 frames.
 * The whole reactions step (assembly of the stacked system, active and inertia loads,
   the solve with its condition estimate, the excluded-equation check, the reaction
   dictionaries: ``analysis._forces`` on a solved ``LinkMotion``) against a hand-written

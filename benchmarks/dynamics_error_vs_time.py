@@ -1,7 +1,7 @@
 """Accuracy against run time of the work integral's methods, and the check against frames.
 
-Seed-000 slider-crank in steady motion (exact p = 10π/9; q̇(q) in closed form) with its
-two-level driving force (a jump at q = π), and the same mechanism with a smooth, asymmetric force
+The slider-crank of [Panasenko 2025] in steady motion (exact p = 10π/9; q̇(q) in closed
+form) with its two-level driving force (a jump at q = π), and the same mechanism with a smooth, asymmetric force
 ``-p exp(0.5 sin(q + 0.4)) (1 + 0.3 cos 2q)`` (not band-limited, so no method is exact
 by symmetry; reference: scipy's adaptive ``quad_vec`` at relative tolerance 1e-12,
 independent of the FFT route under test):
@@ -14,8 +14,8 @@ independent of the FFT route under test):
   samples, Gauss).
 
 Writes ``docs/img/dyn-error-vs-time.png``, ``docs/img/dyn-check-vs-frames.png`` and
-``docs/img/dyn-slider-crank.png`` (the seed's plots: Q, q̇, q̈ and joint loads against q)
-and prints the table.  Run: ``python benchmarks/dynamics_error_vs_time.py``.
+``docs/img/dyn-slider-crank.png`` (the plots of [Panasenko 2025]: Q, q̇, q̈ and joint loads
+against q) and prints the table.  Run: ``python benchmarks/dynamics_error_vs_time.py``.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ QDOT0 = 10.0
 SMOOTH_FORCE = "-p*exp(0.5*sin(q + 0.4))*(1 + 0.3*cos(2*q))"
 
 
-def seed(smooth: bool) -> Any:
+def slider_crank(smooth: bool) -> Any:
     d = json.loads(example_path("slider-crank-seed000-dynamics").read_text())
     if smooth:
         # asymmetric and not band-limited: no method is exact by symmetry
@@ -49,7 +49,7 @@ def seed(smooth: bool) -> Any:
 
 
 def exact_qdot(q: np.ndarray, p: float) -> np.ndarray:
-    """q̇(q) of the seed's law in closed form (energy: V q̇²/2 − V₀ q̇₀²/2 = A)."""
+    """q̇(q) of the paper's force law in closed form (energy: V q̇²/2 − V₀ q̇₀²/2 = A)."""
     phi = np.arcsin(-np.sin(q) / 2)
     xB = np.cos(q) + 2 * np.cos(phi)
     A = -10 * q + np.where(q < np.pi, 10 * p * (3 - xB), 20 * p - p * (xB - 1))
@@ -64,7 +64,7 @@ def exact_qdot(q: np.ndarray, p: float) -> np.ndarray:
 
 
 def runs(smooth: bool) -> list[tuple[str, str, float, float, float]]:
-    m = seed(smooth)
+    m = slider_crank(smooth)
     model = KinematicModel.build(m)
     if smooth:
         # the reference is independent of the fft route under test: scipy's adaptive
@@ -145,7 +145,7 @@ def main() -> None:
     fig.tight_layout()
     fig.savefig(IMG / "dyn-error-vs-time.png", dpi=110)
 
-    m = seed(False)
+    m = slider_crank(False)
     model = KinematicModel.build(m)
     frames = [9, 18, 36, 72, 144, 288, 576, 1152]
     fig, ax = plt.subplots(figsize=(6, 4))

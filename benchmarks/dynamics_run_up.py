@@ -48,7 +48,8 @@ CASES = (("mildly stiff", 8e3), ("stiff", 4e5), ("very stiff", 8e6))
 
 
 def model_for(M0: float) -> KinematicModel:
-    """Seed-000 slider-crank, motor line on the crank, viscous resistance 5 q̇ on the slider."""
+    """The slider-crank of [Panasenko 2025]: motor line on the crank, viscous resistance 5 q̇ on
+    the slider."""
     d = mechanism_to_dict(read_mechanism(example_path("slider-crank-seed000-dynamics")))
     d["loads"] = [
         {"link": "1", "moment": f"{M0}*(1 - qdot/{W0})"},

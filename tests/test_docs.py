@@ -26,8 +26,6 @@ PAGES = sorted(
     ]
 )
 NOTEBOOK = ROOT / "docs/tour.ipynb"
-# benchmarks whose wording is still being reworded with the dynamics work
-PENDING = {"bench_dynamics.py", "dynamics_error_vs_time.py", "dynamics_run_up.py"}
 
 # [text](target) and ![alt](target); the target ends at whitespace or ')'.
 LINK = re.compile(r"!?\[[^\]]*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
@@ -105,15 +103,7 @@ def _docstrings(path: Path) -> str:
 
 @pytest.mark.parametrize(
     "path",
-    [
-        pytest.param(
-            p,
-            marks=[pytest.mark.xfail(reason="reworded with the dynamics work")]
-            if p.name in PENDING
-            else [],
-        )
-        for p in sorted((ROOT / "benchmarks").glob("*.py"))
-    ],
+    [p for p in sorted((ROOT / "benchmarks").glob("*.py"))],
     ids=lambda p: p.name,
 )
 def test_benchmark_docstrings_stand_alone(path: Path) -> None:
