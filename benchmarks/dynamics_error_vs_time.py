@@ -1,7 +1,8 @@
 """Accuracy against run time of the work integral's methods, and the check against frames.
 
 The slider-crank of [Panasenko 2025] in steady motion (exact p = 10π/9; q̇(q) in closed
-form) with its two-level driving force (a jump at q = π), and the same mechanism with a smooth, asymmetric force
+form) with its two-level driving force (a jump at q = π), and the same mechanism with a
+smooth, asymmetric force
 ``-p exp(0.5 sin(q + 0.4)) (1 + 0.3 cos 2q)`` (not band-limited, so no method is exact
 by symmetry; reference: scipy's adaptive ``quad_vec`` at relative tolerance 1e-12,
 independent of the FFT route under test):
