@@ -305,6 +305,37 @@ def test_any_value_in_any_field_is_an_answer_or_bad_input(tmp_path_factory, wher
         (lambda mj, m: mj.loop_assortment("x"), "m"),
         (lambda mj, m: mj.pebble_rank(None), "m"),
         (lambda mj, m: mj.code_report(5), "code"),
+        (lambda mj, m: mj.kinematic_analysis("x"), "model"),
+        (lambda mj, m: mj.kinematic_analysis(m, frames="10"), "frames"),
+        (lambda mj, m: mj.kinematic_analysis(m, frames=2.5), "frames"),
+        (lambda mj, m: mj.kinematic_analysis(m, speed="1"), "speed"),
+        (lambda mj, m: mj.kinematic_analysis(m, tol=None), "tol"),
+        (lambda mj, m: mj.kinematic_analysis(m, stroke=[1]), "stroke"),
+        (lambda mj, m: mj.kinematic_analysis(m, drivers="O1"), "drivers"),
+        (lambda mj, m: mj.plan_kinematics("x"), "m"),
+        (lambda mj, m: mj.plan_kinematics(m, drivers="O1"), "drivers"),
+        (lambda mj, m: mj.read_geometry("x"), "m"),
+        (lambda mj, m: mj.jacobian_at_reference("x"), "m"),
+        (lambda mj, m: mj.singular_analysis("x"), "mechanism"),
+        (lambda mj, m: mj.mechanism_to_dict("x"), "m"),
+        (lambda mj, m: mj.mechanism_to_toml("x"), "m"),
+        (lambda mj, m: mj.link_assortment("x"), "m"),
+        (lambda mj, m: mj.mj_assortment("x"), "m"),
+        (lambda mj, m: mj.mj_factor("x"), "m"),
+        (lambda mj, m: mj.simple_joint_count("x"), "m"),
+        (lambda mj, m: mj.to_networkx("x"), "m"),
+        (lambda mj, m: mj.from_link_graph("x"), "g"),
+        (lambda mj, m: mj.is_admissible("x"), "m"),
+        (lambda mj, m: mj.rigid_subchain("x"), "m"),
+        (lambda mj, m: mj.structural_code("x", 2), "a"),
+        (lambda mj, m: mj.structural_code(mj.assortment(m), "2"), "K"),
+        (lambda mj, m: mj.full_code("x", 2), "a"),
+        (lambda mj, m: mj.fourbar_theory("a", 1, 1), "P1"),
+        (lambda mj, m: mj.fourbar_theory(0.5, None, 1), "P2"),
+        (lambda mj, m: mj.parse_mechanism(None), "text"),
+        (lambda mj, m: mj.Mechanism(links=5, joints=3), "links"),
+        (lambda mj, m: mj.Mechanism(links=("0", "1"), joints=3), "joints"),
+        (lambda mj, m: mj.Mechanism(links=m.links, joints=m.joints, frame=0), "frame"),
     ],
 )
 def test_public_functions_name_the_parameter_on_wrong_types(call, parameter):
@@ -315,6 +346,16 @@ def test_public_functions_name_the_parameter_on_wrong_types(call, parameter):
     with pytest.raises(MechanismError) as info:
         call(mjstruct, m)
     assert str(info.value).startswith(parameter + ": ")
+    assert "\n" not in str(info.value) and len(str(info.value)) < 200
+
+
+def test_right_types_in_other_spellings_are_accepted():
+    import mjstruct
+
+    m = mechanism_from_dict(FOUR_BAR)
+    r = mjstruct.kinematic_analysis(m, drivers=("O1",), frames=np.int64(8), speed=np.float64(2))
+    assert len(r.q) == 8 and r.speed == 2.0
+    assert mjstruct.structural_code(mjstruct.assortment(m), np.int64(2)) == "[40]/0"
 
 
 TOML_PIECES = st.sampled_from(

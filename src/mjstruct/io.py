@@ -27,7 +27,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_instance, expect_mechanism
 from mjstruct.mechanism import Joint, Mechanism, Point
 
 if TYPE_CHECKING:
@@ -111,6 +111,8 @@ def _decode(data: bytes, source: str) -> str:
 
 def parse_mechanism(text: str, toml: bool = False, source: str = "input") -> Mechanism:
     """Parse mechanism text (JSON by default)."""
+    if not isinstance(text, str):
+        raise MechanismError(f"text: expected the file's text (a str), got {type(text).__name__}")
     try:
         data = tomllib.loads(text) if toml else json.loads(text)
     except json.JSONDecodeError as exc:
@@ -254,6 +256,7 @@ def mechanism_from_dict(data: Any) -> Mechanism:
 
 def mechanism_to_dict(m: Mechanism) -> dict[str, Any]:
     """The contract's object for ``m`` (round-trips through :func:`mechanism_from_dict`)."""
+    expect_mechanism(m)
     out: dict[str, Any] = {}
     if m.name:
         out["name"] = m.name
@@ -307,6 +310,7 @@ def mechanism_to_toml(m: Mechanism) -> str:
     >>> parse_mechanism(mechanism_to_toml(m), toml=True) == m
     True
     """
+    expect_mechanism(m)
     d = mechanism_to_dict(m)
     tables = {k: d.pop(k) for k in ("joints", "points") if k in d}
     lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in d.items() if v is not None]
@@ -325,6 +329,9 @@ def from_link_graph(
     Edge attribute ``type`` ("R"/"P") and ``id`` are used when present; a plain link
     graph cannot express a multiple joint, so every edge becomes a simple joint.
     """
+    import networkx as nx
+
+    expect_instance(g, "g", nx.Graph, "a networkx graph of links")
     if g.is_multigraph():
         raise MechanismError(
             "graph: parallel edges (two joints between two links) are not a chain"
@@ -346,4 +353,5 @@ def from_link_graph(
 
 def to_networkx(m: Mechanism) -> nx.Graph:
     """The bipartite link–joint graph (see :meth:`Mechanism.graph`)."""
+    expect_mechanism(m)
     return m.graph()

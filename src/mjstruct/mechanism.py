@@ -203,8 +203,30 @@ class Mechanism:
         )
 
 
+def _validate_types(m: Mechanism) -> None:
+    """The fields' types, before anything else reads them (``Mechanism(links=5)``)."""
+    for name, kind in (("links", str), ("joints", Joint), ("drivers", str), ("points", Point)):
+        value = getattr(m, name)
+        if not isinstance(value, (tuple, list)) or not all(isinstance(x, kind) for x in value):
+            raise MechanismError(
+                f"{name}: expected a tuple of {kind.__name__} values, got {type(value).__name__}"
+            )
+    for k, j in enumerate(m.joints):
+        if not isinstance(j.id, str) or not isinstance(j.links, (tuple, list)):
+            raise MechanismError(f"joints[{k}]: expected a str id and a tuple of link ids")
+        if not all(isinstance(x, str) for x in j.links):
+            raise MechanismError(f"joints[{k}].links: expected link ids (str), got {j.links!r}")
+    if m.frame is not None and not isinstance(m.frame, str):
+        raise MechanismError(f"frame: expected a link id (str) or None, got {m.frame!r}")
+    if not isinstance(m.name, str):
+        raise MechanismError(f"name: expected a str, got {type(m.name).__name__}")
+    if not isinstance(m.extra, Mapping):
+        raise MechanismError(f"extra: expected a mapping, got {type(m.extra).__name__}")
+
+
 def validate(m: Mechanism) -> None:
     """Raise :class:`MechanismError` naming the first problem found."""
+    _validate_types(m)
     if not m.joints:
         raise MechanismError("joints: a chain needs at least one joint")
     if len(set(m.links)) != len(m.links):

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_number
 
 #: two length sums closer than this (relative to the frame) are taken as equal
 TIE = 1e-9
@@ -136,6 +136,8 @@ def fourbar_theory(P1: float, P2: float, P3: float) -> FourBar:
     >>> fourbar_theory(0.5, 0.5, 1.0).system4     # MS2 lies on (4.1) and (4.2)
     (1, 2)
     """
+    for name, value in (("P1", P1), ("P2", P2), ("P3", P3)):
+        expect_number(value, name)
     lengths = [1.0, float(P1), float(P2), float(P3)]
     for name, v in zip(("P1", "P2", "P3"), lengths[1:], strict=True):
         if not (math.isfinite(v) and v > 0.0):

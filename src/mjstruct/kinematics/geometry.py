@@ -31,7 +31,7 @@ from __future__ import annotations
 import cmath
 from dataclasses import dataclass
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_mechanism
 from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.drivers import validate_drivers
@@ -75,6 +75,7 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
         links, all joints at one point, two revolute joints of one link at one point
         (a zero-length side), a driver that is not a joint of the mechanism.
     """
+    expect_mechanism(m)
     if m.frame is None:
         raise MechanismError("frame: kinematics needs a frame link")
     centres: dict[str, complex] = {}

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.kinematics.geometry import Geometry, read_geometry
 from mjstruct.kinematics.tolerances import NEAR_SINGULAR, RANK_RTOL
 from mjstruct.kinematics.triangles import Pose
@@ -416,4 +417,5 @@ def _factored(
 
 def jacobian_at_reference(m: Mechanism) -> JacobianCheck:
     """The Jacobian check at the file's reference configuration (all rotations zero)."""
+    expect_mechanism(m)
     return check_jacobian(m, read_geometry(m), reference_poses(m), tuple(m.drivers))

@@ -243,6 +243,10 @@ def plan_kinematics(
         the drivers do not determine the mechanism (too few, too many, or a group this
         planner cannot solve).
     """
+    from mjstruct.errors import expect_ids, expect_mechanism
+
+    expect_mechanism(m)
+    expect_ids(drivers, "drivers")
     drv = validate_drivers(m, drivers, balance=False)
     if not drv:
         raise MechanismError("drivers: kinematics needs at least one driver joint")

@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_mechanism
 from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
 from mjstruct.kinematics.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.kinematics.singular_curve import (
@@ -347,6 +347,7 @@ def singular_analysis(
     NumericalError
         the curve could not be traced.
     """
+    expect_mechanism(mechanism, "mechanism")
     m = mechanism
     F = dof(m)
     if F != 1:

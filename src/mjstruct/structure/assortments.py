@@ -85,21 +85,25 @@ def link_assortment(m: Mechanism) -> list[int]:
     >>> link_assortment(Mechanism.build([("a", [0, 1]), ("b", [1, 2]), ("c", [2, 0])]))
     [3]
     """
+    expect_mechanism(m)
     return list(_counts([len(v) for v in m.link_joints.values()], 2))
 
 
 def mj_assortment(m: Mechanism) -> list[int]:
     """[MJA] = [ν2, ν3, ...]: multiple joints counted by multiplicity j = m - 1."""
+    expect_mechanism(m)
     return list(_counts([j.multiplicity for j in m.joints], 2))
 
 
 def mj_factor(m: Mechanism) -> int:
     """V = Σ (j - 1) over all joints (0 for a simple-joint chain)."""
+    expect_mechanism(m)
     return sum(j.multiplicity - 1 for j in m.joints)
 
 
 def simple_joint_count(m: Mechanism) -> int:
     """p = Σ j: the number of simple joints the chain's joints are equivalent to."""
+    expect_mechanism(m)
     return sum(j.multiplicity for j in m.joints)
 
 

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import re
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_instance, expect_int
 from mjstruct.structure.assortments import Assortment
 
 
@@ -54,13 +54,22 @@ def format_counts(counts: list[int], sep: str = "") -> str:
     return "[" + head + "".join(map(str, counts[1:])) + "]"
 
 
+def _expect_code_args(a: object, K: object) -> None:
+    from mjstruct.structure.assortments import Assortment
+
+    expect_instance(a, "a", Assortment, "an Assortment (see parse_code or assortment)")
+    expect_int(K, "K", 0)
+
+
 def structural_code(a: Assortment, K: int) -> str:
     """Code = [LA]/V."""
+    _expect_code_args(a, K)
     return f"{format_counts(_pad(a.LA, K))}/{a.V}"
 
 
 def full_code(a: Assortment, K: int) -> str:
     """Code* = [LA]/[MJA]."""
+    _expect_code_args(a, K)
     return f"{format_counts(_pad(a.LA, K))}/{format_counts(_pad(a.MJA, K - 1) or [0], '·')}"
 
 

@@ -29,6 +29,7 @@ True
 
 from __future__ import annotations
 
+from mjstruct.errors import expect_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.mobility import dof_grubler, rigid_pair_count
 
@@ -47,6 +48,7 @@ def rigid_subchain(m: Mechanism) -> tuple[str, ...] | None:
     Brute force over all link subsets (bitmask dynamic programme), so exact; refuses
     chains of more than :data:`MAX_BRUTE_FORCE_LINKS` links.
     """
+    expect_mechanism(m)
     n = m.n
     if n > MAX_BRUTE_FORCE_LINKS:
         raise ValueError(f"brute force is limited to {MAX_BRUTE_FORCE_LINKS} links, got {n}")
@@ -77,6 +79,7 @@ def rigid_subchain(m: Mechanism) -> tuple[str, ...] | None:
 def is_admissible(m: Mechanism) -> bool:
     """Every link on >= 2 joints and no rigid sub-chain (connectivity is checked by
     :class:`Mechanism` itself)."""
+    expect_mechanism(m)
     if any(len(js) < 2 for js in m.link_joints.values()):
         return False
     return rigid_subchain(m) is None
@@ -92,6 +95,7 @@ def is_fractionated(m: Mechanism) -> bool:
     >>> is_fractionated(two_loops)
     True
     """
+    expect_mechanism(m)
     import networkx as nx
 
     g = m.graph()
