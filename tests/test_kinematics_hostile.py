@@ -12,7 +12,7 @@ from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.errors import MechanismError
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.memory import MEMORY_ENV, sweep_bytes
+from mjstruct.kinematics.memory import MEMORY_ENV, frames_that_fit, sweep_bytes
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.solver import kinematic_analysis
 from mjstruct.kinematics.tolerances import TOL_FLOOR
@@ -111,7 +111,7 @@ def test_sweeps_beyond_the_memory_limit_are_refused_with_the_largest_that_fits(
     f = str(example_path("four-bar"))
     err = _refused(["kinematics", f, "--frames", "10000000"], capsys)
     model = KinematicModel.build(read_mechanism(example_path("four-bar")))
-    fits = 2**31 // sweep_bytes(model, 1)
+    fits = frames_that_fit(model, 2**31)
     assert "--frames: 10000000 frames need about" in err and f"at most {fits} frames fit" in err
     # the flag and the environment variable lower (or raise) the limit
     err = _refused(["kinematics", f, "--frames", "100", "--max-memory", "1000"], capsys)
@@ -136,4 +136,4 @@ def test_the_memory_estimate_bounds_the_measured_peak():
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
-    assert text and peak <= sweep_bytes(model, 2000) <= 3 * peak
+    assert text and peak <= sweep_bytes(model, 2000, output="json") <= 3 * peak

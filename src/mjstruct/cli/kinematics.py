@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
+from typing import TypeVar
 
 from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
@@ -51,18 +53,35 @@ FLAGS = {
 }
 
 
+T = TypeVar("T")
+
+
+def _write(write: Callable[[], T], path: str) -> T:
+    """Run ``write``; a file system error is bad input naming ``--csv``."""
+    try:
+        return write()
+    except OSError as exc:
+        raise MechanismError(f"--csv: cannot write {path} ({exc.strerror})") from None
+
+
 def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
-    from mjstruct.kinematics.report import render, write_csv
-    from mjstruct.kinematics.solver import kinematic_analysis
+    from mjstruct.kinematics.memory import CHUNK_FRAMES, check_sweep_memory
+    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.report import render, render_stream, write_csv, write_csv_chunks
+    from mjstruct.kinematics.solver import MAX_STROKE, kinematic_analysis, sweep_chunks
     from mjstruct.kinematics.tolerances import TOL_FLOOR
 
     if args.frames < 1:
         raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
     if not math.isfinite(args.speed) or args.speed == 0:
         raise MechanismError(f"--speed: must be a finite nonzero number, got {args.speed}")
-    if not math.isfinite(args.stroke):
-        raise MechanismError(f"--stroke: must be a finite number, got {args.stroke}")
+    # a slide of |stroke| × frames (and its square, in the triangles) must be a double
+    if not math.isfinite(args.stroke) or not abs(args.stroke) <= MAX_STROKE:
+        raise MechanismError(
+            f"--stroke: must be a finite number of at most {MAX_STROKE:g} in size, "
+            f"got {args.stroke:g}"
+        )
     if not TOL_FLOOR <= args.tol < 1:
         raise MechanismError(
             f"--tol: must be in [{TOL_FLOOR:g}, 1) (relative to the mechanism's size), "
@@ -74,22 +93,38 @@ def run(args: argparse.Namespace) -> int:
         )
     m = read_mechanism(args.file)
     drivers = driver_list(args.drivers, m)
+    checks = not args.no_checks
     with flag_names(**FLAGS):
+        model = KinematicModel.build(m, drivers)
+        if args.csv and not args.json and args.frames > CHUNK_FRAMES:
+            # the table alone: solved and written chunk by chunk, in bounded memory
+            chunks = sweep_chunks(
+                model,
+                args.frames,
+                speed=args.speed,
+                stroke=args.stroke,
+                tol=args.tol,
+                checks=checks,
+                chunk=CHUNK_FRAMES,
+                max_memory=args.max_memory,
+            )
+            summary = _write(lambda: write_csv_chunks(chunks, args.csv), args.csv)
+            emit_text(render_stream(summary, args.csv))
+            return 0
+        if args.json:
+            # the JSON text is the largest output: estimated on its own
+            check_sweep_memory(model, args.frames, args.max_memory, output="json", checks=checks)
         r = kinematic_analysis(
-            m,
-            drivers=drivers,
+            model,
             frames=args.frames,
             speed=args.speed,
             stroke=args.stroke,
             tol=args.tol,
-            checks=not args.no_checks,
+            checks=checks,
             max_memory=args.max_memory,
         )
     if args.csv:
-        try:
-            write_csv(r, args.csv)
-        except OSError as exc:
-            raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None
+        _write(lambda: write_csv(r, args.csv), args.csv)
     if args.json:
         emit_json(r.to_dict())
     else:

@@ -1,16 +1,28 @@
 """The memory a kinematic sweep needs, estimated before it starts, and its limit.
 
-Owns :func:`sweep_bytes` (bytes per frame × frames, from the plan's size) and
+Owns :func:`sweep_bytes` (the peak of one output path: the library's result, the JSON
+text, or the CSV table streamed in chunks), :func:`frames_that_fit` and
 :func:`check_sweep_memory`, which refuses a sweep beyond the limit
 (:data:`DEFAULT_MAX_MEMORY`, 2 GiB, or the environment variable
 ``MJSTRUCT_MAX_MEMORY_BYTES``) with the estimate and the largest frame count that fits.
 
-The estimate counts the result's tables (x, y, velocities, accelerations and their
-analogs per joint and point; angle, ω, ε, σ, κ per link; the closure unknowns) and
-scales them by :data:`BYTES_PER_VALUE`, measured with ``tracemalloc`` as the peak of
-an analysis with its checks and its JSON text: 43–55 bytes per table value on the
-four-bar, the class-IV and Zhivago examples (closure) and the five-cylinder radial
-engine at 20 000 frames; 64 leaves a margin.
+The estimate is linear in the frames, per *table item* (a joint, a point, a link or a
+closure unknown), plus, with the checks, the dense constraint Jacobians the checks
+build on a few frames (quadratic in the size, independent of the frames).  The
+coefficients were measured with ``tracemalloc`` (peak of the call, 1000 and 3000
+frames, slope and intercept) on the four-bar, class-IV, Zhivago examples and k
+four-bars sharing one crank (10 to 1000 links):
+
+* result, checks off: 51-60 bytes per item and frame (:data:`RESULT_BYTES` 60);
+* result with checks: 74-115 (:data:`CHECKS_BYTES` adds 40);
+* JSON text (the result, its lists of floats and the text): 396-425
+  (:data:`JSON_BYTES` 420);
+* the dense Jacobians: 5 to 26 matrices of Nu × 3Ns doubles, depending on how many
+  the checks keep within their budget (:func:`dense_bytes`).
+
+A CSV table to a file is streamed: the sweep is solved :data:`CHUNK_FRAMES` frames at
+a time (with a short lead-in from the reference, :data:`LEAD_FRAMES`), so its peak
+does not grow with the frame count.
 
 Examples
 --------
@@ -18,34 +30,100 @@ Examples
 >>> from mjstruct.catalog_files import example_path
 >>> from mjstruct.kinematics.model import KinematicModel
 >>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
->>> sweep_bytes(model, 1000)
-4480000
+>>> sweep_bytes(model, 1000, checks=False)
+540000
+>>> sweep_bytes(model, 10**9, output="csv") == sweep_bytes(model, 10**7, output="csv")
+True
 >>> check_sweep_memory(model, 10**9, limit=2**31)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-mjstruct.errors.MechanismError: frames: 1000000000 frames need about 4.5e+12 bytes, over ... fit
+mjstruct.errors.MechanismError: frames: 1000000000 frames need about 9e+11 bytes, over ... fit
 """
 
 from __future__ import annotations
 
 import os
+from typing import Literal
 
 from mjstruct.errors import MechanismError
+from mjstruct.kinematics.jacobian import MEMORY_BUDGET
 from mjstruct.kinematics.model import KinematicModel
 
 #: default limit on a sweep's estimated memory (bytes)
 DEFAULT_MAX_MEMORY = 2**31
 #: environment variable overriding :data:`DEFAULT_MAX_MEMORY`
 MEMORY_ENV = "MJSTRUCT_MAX_MEMORY_BYTES"
-#: bytes of peak memory per table value (measured 43-55, see the module docstring)
-BYTES_PER_VALUE = 64
+#: bytes per table item and frame of the result without checks (measured 51-60)
+RESULT_BYTES = 60
+#: bytes per table item and frame the checks add (measured 20-55)
+CHECKS_BYTES = 40
+#: bytes per table item and frame of the JSON path, result and checks included
+#: (measured 396-425)
+JSON_BYTES = 420
+#: bytes the checks need whatever the size (measured 0.04-1.6 MB)
+CHECKS_FIXED = 2**18
+#: frames solved at once when the CSV table is streamed to a file
+CHUNK_FRAMES = 20_000
+#: at most this many frames (plus a few) lead each chunk in from the reference
+LEAD_FRAMES = 720
+
+Output = Literal["result", "json", "csv"]
 
 
-def sweep_bytes(model: KinematicModel, frames: int) -> int:
-    """Estimated peak memory (bytes) of an analysis of ``model`` over ``frames`` frames."""
+def table_items(model: KinematicModel) -> int:
+    """Joints, points, links and closure unknowns: the items the tables hold per frame."""
     m = model.mechanism
-    values = 10 * (len(m.joints) + len(m.points)) + 5 * len(m.links) + 4 * model.plan.unknowns
-    return BYTES_PER_VALUE * values * frames
+    return len(m.joints) + len(m.points) + len(m.links) + model.plan.unknowns
+
+
+def dense_bytes(model: KinematicModel) -> int:
+    """Bytes of the dense constraint Jacobians the checks hold at once.
+
+    The checks keep at most ``MEMORY_BUDGET / matrix`` matrices (and at least one);
+    with the copies made around them the measured peak was 5 matrices at one kept,
+    17 at three and 24-26 at five or more: about ``2 + 4 × kept`` (kept at most 5).
+    """
+    m = model.mechanism
+    nu = sum(2 * (len(j.links) - 1) if j.kind == "R" else 2 for j in m.joints)
+    matrix = 8 * (nu + len(model.drivers)) * 3 * (len(m.links) - 1)
+    kept = min(5, max(1, MEMORY_BUDGET // max(matrix, 1)))
+    return matrix * (2 + 4 * kept)
+
+
+def _per_frame(model: KinematicModel, output: Output, checks: bool) -> int:
+    per_item = JSON_BYTES if output == "json" else RESULT_BYTES + (CHECKS_BYTES if checks else 0)
+    return per_item * table_items(model)
+
+
+def _fixed(model: KinematicModel, checks: bool) -> int:
+    return CHECKS_FIXED + dense_bytes(model) if checks else 0
+
+
+def sweep_bytes(
+    model: KinematicModel, frames: int, output: Output = "result", checks: bool = True
+) -> int:
+    """Estimated peak memory (bytes) of an analysis of ``model`` over ``frames`` frames.
+
+    Parameters
+    ----------
+    model : the model to be solved.
+    frames : the frame count.
+    output : ``"result"`` (the library's :class:`KinematicsResult`), ``"json"`` (that
+        and the JSON text) or ``"csv"`` (the table streamed to a file in chunks of
+        :data:`CHUNK_FRAMES`: bounded whatever the frame count).
+    checks : whether the checks run.
+    """
+    if output == "csv":
+        frames = min(frames, CHUNK_FRAMES + LEAD_FRAMES + 8)
+    return _fixed(model, checks) + _per_frame(model, output, checks) * frames
+
+
+def frames_that_fit(
+    model: KinematicModel, limit: int, output: Output = "result", checks: bool = True
+) -> int:
+    """The largest frame count whose estimate is within ``limit`` bytes (0: none)."""
+    room = limit - _fixed(model, checks)
+    return max(0, room // max(_per_frame(model, output, checks), 1))
 
 
 def memory_limit(limit: int | None = None) -> int:
@@ -74,7 +152,13 @@ def memory_limit(limit: int | None = None) -> int:
     return limit
 
 
-def check_sweep_memory(model: KinematicModel, frames: int, limit: int | None = None) -> int:
+def check_sweep_memory(
+    model: KinematicModel,
+    frames: int,
+    limit: int | None = None,
+    output: Output = "result",
+    checks: bool = True,
+) -> int:
     """Refuse a sweep whose estimate exceeds the limit; return the estimate (bytes).
 
     Raises
@@ -84,9 +168,14 @@ def check_sweep_memory(model: KinematicModel, frames: int, limit: int | None = N
         that fits.
     """
     cap = memory_limit(limit)
-    need = sweep_bytes(model, frames)
+    need = sweep_bytes(model, frames, output, checks)
     if need > cap:
-        fits = cap // max(sweep_bytes(model, 1), 1)
+        if output == "csv":
+            raise MechanismError(
+                f"frames: the streamed table needs about {need:.2g} bytes whatever the frame "
+                f"count, over the limit of {cap:.3g} bytes (max_memory, or {MEMORY_ENV})"
+            )
+        fits = frames_that_fit(model, cap, output, checks)
         raise MechanismError(
             f"frames: {frames} frames need about {need:.2g} bytes, over the limit of "
             f"{cap:.3g} bytes (max_memory, or {MEMORY_ENV}); at most {fits} frames fit"

@@ -17,9 +17,15 @@ kinematics of four-bar: 36 frames, drivers O1, speed 1
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
+import os
+import tempfile
+from collections.abc import Iterable
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TextIO
 
 import numpy as np
 
@@ -85,15 +91,145 @@ def _g(x: float | None) -> str:
     return "n/a" if x is None else f"{x:.4g}"
 
 
+#: rows formatted and written at a time (bounds the text held in memory)
+CSV_ROWS = 4096
+
+
 def write_csv(r: KinematicsResult, path: str | Path | None = None) -> str:
-    """The table as CSV text (and written to ``path`` when given)."""
+    """The table as CSV text, or, given ``path``, written there (atomically; returns "").
+
+    The file is written in blocks of :data:`CSV_ROWS` rows to a temporary file in the
+    target directory and renamed into place, so no half-written table is left.
+    """
+    if path is None:
+        buf = io.StringIO()
+        _write_rows(buf, r, header=True)
+        return buf.getvalue()
+    write_csv_chunks([r], path)
+    return ""
+
+
+def _write_rows(out: TextIO, r: KinematicsResult, header: bool) -> None:
     names, data = r.table()
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(names)
-    for row in data:
-        w.writerow(["" if not np.isfinite(x) else repr(float(x)) for x in row])
-    text = buf.getvalue()
-    if path is not None:
-        Path(path).write_text(text, encoding="utf-8")
-    return text
+    w = csv.writer(out, lineterminator="\n")
+    if header:
+        w.writerow(names)
+    for lo in range(0, data.shape[0], CSV_ROWS):
+        w.writerows(
+            ["" if not np.isfinite(x) else repr(float(x)) for x in row]
+            for row in data[lo : lo + CSV_ROWS]
+        )
+
+
+def write_csv_chunks(chunks: Iterable[KinematicsResult], path: str | Path) -> StreamSummary:
+    """Write the tables of consecutive chunks of one sweep as one CSV file.
+
+    The rows go to a temporary file next to ``path`` (same directory, so the final
+    rename is atomic), which replaces ``path`` only when every chunk is written; on
+    any error (or interruption) the temporary file is removed and ``path`` is left as
+    it was.  Returns what the report needs of the whole sweep.
+    """
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    summary: StreamSummary | None = None
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
+            for r in chunks:
+                _write_rows(out, r, header=summary is None)
+                summary = StreamSummary.first(r) if summary is None else summary.add(r)
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    assert summary is not None
+    return summary
+
+
+@dataclass
+class StreamSummary:
+    """What the report says of a sweep whose chunks were written and dropped.
+
+    ``frames``, ``assembled``, ``valid``: counts over the sweep; ``chunks``; the
+    largest errors of the checks; the near-singular frames (sweep numbers); the
+    warnings of every chunk, each once, in order.
+    """
+
+    first_chunk: KinematicsResult
+    frames: int = 0
+    assembled: int = 0
+    valid: int = 0
+    chunks: int = 0
+    closure_iterations: int = 0
+    closure_error: float = 0.0
+    link_error: float | None = None
+    analog_error: float | None = None
+    near_singular: list[int] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    @classmethod
+    def first(cls, r: KinematicsResult) -> StreamSummary:
+        """The summary of the first chunk."""
+        return cls(r).add(r)
+
+    def add(self, r: KinematicsResult) -> StreamSummary:
+        """Fold in the next chunk (its frames numbered after the ones before)."""
+        offset = self.frames
+        self.frames += r.valid.size
+        self.assembled += int(r.placed.sum())
+        self.valid += int(r.valid.sum())
+        self.chunks += 1
+        if r.closure is not None:
+            ok = r.closure.converged
+            self.closure_iterations = max(self.closure_iterations, r.closure.iterations)
+            if ok.any():
+                self.closure_error = max(self.closure_error, float(r.closure.error[ok].max()))
+        ch = r.checks
+        if "link_lengths" in ch:
+            e = ch["link_lengths"]["max_error"]
+            self.link_error = e if self.link_error is None else max(self.link_error, e)
+        if "analogs_vs_differences" in ch:
+            e = ch["analogs_vs_differences"]["max_error"]
+            self.analog_error = e if self.analog_error is None else max(self.analog_error, e)
+        if "jacobian" in ch:
+            self.near_singular += [offset + i for i in ch["jacobian"]["near_singular_frames"]]
+        seen = set(self.warnings)
+        self.warnings += [w for w in r.warnings if w not in seen]
+        return self
+
+
+def render_stream(s: StreamSummary, path: str | Path) -> str:
+    """The text report of a sweep streamed to a CSV file (:func:`write_csv_chunks`)."""
+    r = s.first_chunk
+    name = r.mechanism.name or "mechanism"
+    out = [
+        f"kinematics of {name}: {s.frames} frames, drivers {', '.join(r.plan.drivers)}, "
+        f"speed {r.speed:g}",
+        f"table written to {path} in {s.chunks} chunk(s), each solved from the reference",
+    ]
+    out.append(f"plan ({r.plan.source}; solved in link {r.plan.reference}'s frame):")
+    out += [f"  {line}" for line in r.plan.describe()]
+    if r.closure is not None:
+        out.append(
+            f"closure: Newton, tolerance {r.closure.tol:g} (relative to size), at most "
+            f"{s.closure_iterations} iteration(s) per chunk, achieved error "
+            f"{s.closure_error:.3g}"
+        )
+    if s.link_error is not None:
+        out.append(f"check link lengths: max error {s.link_error:.3g}")
+    if s.analog_error is not None:
+        out.append(f"check analogs vs five-point differences: max error {s.analog_error:.3g}")
+    if s.link_error is not None:
+        ns = s.near_singular
+        shown = ", ".join(str(i) for i in ns[:10]) + (", ..." if len(ns) > 10 else "")
+        out.append(f"check Jacobian: near-singular frames {shown or 'none'}")
+    singular = (
+        f" ({s.assembled - s.valid} singular: positions only)" if s.assembled != s.valid else ""
+    )
+    out.append(f"frames assembled: {s.assembled}/{s.frames}{singular}")
+    if s.warnings:
+        out.append("warnings:")
+        out += [f"  {w}" for w in s.warnings]
+    else:
+        out.append("warnings: none")
+    return "\n".join(out)

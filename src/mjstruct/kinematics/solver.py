@@ -20,23 +20,26 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+import dataclasses
+from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.checks import run_checks
+from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.evaluate import Evaluation
-from mjstruct.kinematics.memory import check_sweep_memory
-from mjstruct.kinematics.model import KinematicModel
+from mjstruct.kinematics.jacobian import poses_at
+from mjstruct.kinematics.memory import CHUNK_FRAMES, LEAD_FRAMES, check_sweep_memory
+from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.kinematics.planner import Plan
 from mjstruct.kinematics.result import KinematicsResult, collect
 from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition
 
-__all__ = ["NEAR_SINGULAR", "KinematicsResult", "kinematic_analysis"]
+__all__ = ["NEAR_SINGULAR", "KinematicsResult", "kinematic_analysis", "sweep_chunks"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -93,28 +96,170 @@ def kinematic_analysis(
     if q is None:
         if frames < 1:
             raise MechanismError(f"frames: must be >= 1, got {frames}")
-        check_sweep_memory(km, frames, max_memory)
+        _check_stroke(stroke)
+        check_sweep_memory(km, frames, max_memory, checks=checks)
         qa = km.sweep(frames, speed, stroke)
     else:
         qa = km.driver_values(q)
-        check_sweep_memory(km, qa.shape[0], max_memory)
+        check_sweep_memory(km, qa.shape[0], max_memory, checks=checks)
+    _check_speed(km, speed)
+    result, motion = _analyse(km, qa, speed, tol)
+    result.warnings = _warnings(result, motion)
+    if checks:
+        with np.errstate(all="ignore"):
+            run_checks(result, motion)
+    return result
+
+
+#: the largest |stroke| of a prismatic sweep: its square (in the triangles) and its
+#: multiples stay far from overflowing a double
+MAX_STROKE = 1e100
+
+
+def _check_stroke(stroke: float) -> None:
+    if not np.isfinite(stroke) or not abs(stroke) <= MAX_STROKE:
+        raise MechanismError(
+            f"stroke: must be a finite number of at most {MAX_STROKE:g} in size, got {stroke:g}"
+        )
+
+
+def _check_speed(km: KinematicModel, speed: float) -> None:
     if not np.isfinite(float(speed) * float(speed) * km.scale):
         raise MechanismError(f"speed: {speed:g} overflows the accelerations (W² × size)")
+
+
+def _analyse(
+    km: KinematicModel, qa: FloatArray, speed: float, tol: float
+) -> tuple[KinematicsResult, Motion]:
+    """The motion on ``qa`` and its tables (no warnings, no checks)."""
     motion = km.motion(qa, order=2, tol=tol)
     # frames near a singular position may carry infinite analogs: they are not valid
     # (reported), and their arithmetic must not warn
     with np.errstate(all="ignore"):
         result = collect(motion, speed)
     _check_overflow(result)
+    return result, motion
+
+
+def _warnings(result: KinematicsResult, motion: Motion, offset: int = 0) -> list[str]:
+    """The motion's warnings, its branch events, parallel guides and infeasible runs
+    (frame numbers shifted by ``offset``)."""
     warnings = list(motion.warnings)
     warnings += [e.message() for e in motion.events]
-    warnings += _parallel_guides(km.plan, motion.evaluation, qa)
-    warnings += _infeasible(result)
-    result.warnings = warnings
-    if checks:
-        with np.errstate(all="ignore"):
-            run_checks(result, motion)
-    return result
+    warnings += _parallel_guides(result.plan, motion.evaluation, motion.q)
+    warnings += _infeasible(result, offset)
+    return warnings
+
+
+def sweep_chunks(
+    model: KinematicModel,
+    frames: int,
+    speed: float = 1.0,
+    stroke: float = 1.0,
+    tol: float = CLOSURE_TOL,
+    checks: bool = True,
+    chunk: int = CHUNK_FRAMES,
+    max_memory: int | None = None,
+) -> Iterator[KinematicsResult]:
+    """The sweep of :func:`kinematic_analysis` solved ``chunk`` frames at a time.
+
+    Each chunk is solved on a path that leads in from the reference (at most
+    :data:`~mjstruct.kinematics.memory.LEAD_FRAMES` frames of the sweep before it,
+    evenly thinned, and the last four at full resolution), so that the branch
+    tracking, the closure continuation and the angles' unwrapping carry over from the
+    frames before; only the chunk's own frames are kept.  Each result holds its
+    chunk's frames, the warnings and branch events in them (frame numbers of the
+    whole sweep) and its checks; memory stays bounded whatever ``frames``.
+
+    Raises
+    ------
+    MechanismError
+        bad ``frames``, ``speed`` or ``chunk``, or a chunk beyond the memory limit.
+    """
+    if frames < 1:
+        raise MechanismError(f"frames: must be >= 1, got {frames}")
+    if chunk < 1:
+        raise MechanismError(f"chunk: must be >= 1, got {chunk}")
+    if not np.isfinite(speed) or speed == 0:
+        raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
+    _check_stroke(stroke)
+    check_sweep_memory(model, frames, max_memory, output="csv", checks=checks)
+    _check_speed(model, speed)
+    # each driver's reference and span, as in KinematicModel.sweep
+    ref = np.array([model.geometry.driver_ref[d] for d in model.drivers])
+    kinds = [model.mechanism.joint(d).kind for d in model.drivers]
+    span = np.sign(speed) * np.array([2 * np.pi if k == "R" else stroke for k in kinds])
+    for a in range(0, frames, chunk):
+        b = min(a + chunk, frames)
+        thin = max(1, -(-a // LEAD_FRAMES))
+        lead = np.unique(np.concatenate([np.arange(0, a, thin), np.arange(max(0, a - 4), a)]))
+        idx = np.concatenate([lead, np.arange(a, b)])
+        # the same arithmetic as KinematicModel.sweep: equal to its frames bit for bit
+        qa = ref[None, :] + span[None, :] * idx[:, None] / frames
+        result, motion = _analyse(model, qa, speed, tol)
+        n = lead.size
+        if n:
+            result, motion = _tail(result, n), _tail_motion(motion, n, idx)
+        result.warnings = _warnings(result, motion, offset=a)
+        if checks:
+            with np.errstate(all="ignore"):
+                run_checks(result, motion)
+        yield result
+
+
+def _tail(r: KinematicsResult, n: int) -> KinematicsResult:
+    """``r`` from its frame ``n`` on (views of its tables, no copy)."""
+
+    def cut(table: dict[str, dict[str, FloatArray]]) -> dict[str, dict[str, FloatArray]]:
+        return {i: {k: a[n:] for k, a in v.items()} for i, v in table.items()}
+
+    return dataclasses.replace(
+        r,
+        q=r.q[n:],
+        valid=r.valid[n:],
+        joints=cut(r.joints),
+        points=cut(r.points),
+        links=cut(r.links),
+        events=[],
+        closure=None if r.closure is None else _tail_closure(r.closure, n),
+        assembled=None if r.assembled is None else r.assembled[n:],
+    )
+
+
+def _tail_closure(c: Closure, n: int) -> Closure:
+    return dataclasses.replace(
+        c,
+        t=c.t[n:],
+        t1=c.t1[n:],
+        t2=c.t2[n:],
+        error=c.error[n:],
+        converged=c.converged[n:],
+        jumps=tuple(i - n for i in c.jumps if i >= n),
+    )
+
+
+def _tail_motion(motion: Motion, n: int, idx: npt.NDArray[np.int_]) -> Motion:
+    """``motion`` from its frame ``n`` on; its events renumbered to the sweep's frames."""
+    ev = motion.evaluation
+    keep = np.arange(n, motion.q.shape[0])
+    sub = dataclasses.replace(
+        ev,
+        poses=poses_at(ev.poses, keep),
+        residuals=[[x[n:] for x in jet] for jet in ev.residuals],
+        diag={k: (d[n:], s[n:]) for k, (d, s) in ev.diag.items()},
+        solved={j: [x[n:] for x in jet] for j, jet in ev.solved.items()},
+    )
+    events = tuple(
+        dataclasses.replace(e, frame=int(idx[e.frame])) for e in motion.events if e.frame >= n
+    )
+    return dataclasses.replace(
+        motion,
+        q=motion.q[n:],
+        evaluation=sub,
+        valid=motion.valid[n:],
+        closure=None if motion.closure is None else _tail_closure(motion.closure, n),
+        events=events,
+    )
 
 
 def _check_overflow(r: KinematicsResult) -> None:
@@ -154,14 +299,20 @@ def _parallel_guides(plan: Plan, ev: Evaluation, q: FloatArray) -> list[str]:
     return out
 
 
-def _infeasible(r: KinematicsResult) -> list[str]:
-    """Runs of frames that do not assemble, with their q range; singular frames."""
-    out = _runs(r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j}); values are null")
+def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
+    """Runs of frames that do not assemble, with their q range; singular frames.
+
+    ``offset``: the number of ``r``'s first frame in the sweep (a streamed chunk).
+    """
+    out = _runs(
+        r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j}); values are null", offset
+    )
     out += _runs(
         r,
         r.placed & ~r.valid,
         "singular position for q in [{a}, {b}] (frames {i}..{j}): the Jacobian with the drivers "
         "fixed is singular; positions are given, velocities and accelerations are not (null)",
+        offset,
     )
     bad = np.concatenate([[False], ~r.placed, [False]])
     ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
@@ -172,18 +323,20 @@ def _infeasible(r: KinematicsResult) -> list[str]:
     if after and has_modes:
         # the motion cannot physically cross an infeasible interval: say so
         out.append(
-            f"frames from {after[0]} on assemble again after an infeasible interval: found "
-            "by continuation across the gap (same assembly modes), not a physical motion"
+            f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
+            "found by continuation across the gap (same assembly modes), not a physical motion"
         )
     return out
 
 
-def _runs(r: KinematicsResult, mask: npt.NDArray[np.bool_], text: str) -> list[str]:
+def _runs(
+    r: KinematicsResult, mask: npt.NDArray[np.bool_], text: str, offset: int = 0
+) -> list[str]:
     """``text`` for each run of frames in ``mask`` (``{a}``, ``{b}``: its q range)."""
     edge = np.concatenate([[False], mask, [False]])
     starts = np.flatnonzero(edge[1:] & ~edge[:-1])
     ends = np.flatnonzero(~edge[1:] & edge[:-1]) - 1
     return [
-        text.format(a=f"{r.q[i, 0]:.9g}", b=f"{r.q[j, 0]:.9g}", i=i, j=j)
+        text.format(a=f"{r.q[i, 0]:.9g}", b=f"{r.q[j, 0]:.9g}", i=i + offset, j=j + offset)
         for i, j in zip(starts, ends, strict=True)
     ]
