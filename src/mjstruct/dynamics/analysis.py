@@ -48,6 +48,7 @@ from mjstruct.dynamics.reactions import (
 from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
+from mjstruct.output_numbers import json_list, json_number
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -128,9 +129,9 @@ class DynamicsResult:
         if self.mode != "speed":
             out["qdot"] = _list(self.qdot[:, 0])
             out["qddot"] = _list(self.qddot[:, 0])
-            out["balance"] = _num(self.balance)
+            out["balance"] = json_number(self.balance)
         if self.parameters or self.mode == "free":
-            out["parameters"] = {k: _num(v) for k, v in self.parameters.items()}
+            out["parameters"] = {k: json_number(v) for k, v in self.parameters.items()}
         if self.driving is not None:
             out["driving"] = {k: _list(v) for k, v in self.driving.items()}
         if self.reactions is not None:
@@ -139,22 +140,16 @@ class DynamicsResult:
                 for j, per in self.reactions.items()
             }
         if self.residual is not None:
-            out["check"] = _num(self.check)
+            out["check"] = json_number(self.check)
         for key, arr in (("condition", self.condition), ("accuracy", self.accuracy)):
             if arr is not None and np.isfinite(arr).any():
-                out[key] = _num(float(arr[np.isfinite(arr)].max()))
+                out[key] = json_number(float(arr[np.isfinite(arr)].max()))
         out["warnings"] = list(self.warnings)
         return out
 
 
-def _num(x: float | None) -> float | None:
-    return None if x is None or not np.isfinite(x) else float(x) + 0.0
-
-
 def _list(a: FloatArray | None) -> list[float | None]:
-    if a is None:
-        return []
-    return [float(x) + 0.0 if np.isfinite(x) else None for x in np.asarray(a, float)]
+    return [] if a is None else json_list(np.asarray(a, float))
 
 
 def dynamic_analysis(

@@ -20,10 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from mjstruct.dynamics.analysis import DynamicsResult
-
-
-def _fmt(x: float | None) -> str:
-    return "-" if x is None or not np.isfinite(x) else f"{x:.6g}"
+from mjstruct.output_numbers import text_number as _fmt
 
 
 def _table(rows: list[tuple[str, float | None]]) -> str:

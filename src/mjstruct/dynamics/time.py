@@ -53,6 +53,8 @@ from mjstruct.dynamics.time_terms import TABLE_POINTS, ReducedEquation, reduced_
 from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
+from mjstruct.output_numbers import json_list, json_number
+from mjstruct.output_numbers import text_number as _fmt
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -524,25 +526,17 @@ def _stiffness(eq: ReducedEquation, q0: float, qdot0: float, t_end: float) -> fl
     return float(np.nanmax(np.abs(b))) * t_end
 
 
-def _num(x: float | None) -> float | None:
-    return None if x is None or not np.isfinite(x) else float(x) + 0.0
-
-
-def _list(a: FloatArray) -> list[float | None]:
-    return [_num(float(x)) for x in a]
-
-
 def time_json(r: TimeMotion) -> dict[str, Any]:
     """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
     return {
-        "t": _list(r.t),
-        "q": _list(r.q),
-        "qdot": _list(r.qdot),
-        "qddot": _list(r.qddot),
-        "V": _list(r.V),
-        "Q": _list(r.Q),
-        "work": _list(r.work),
-        "parameters": {k: _num(v) for k, v in r.parameters.items()},
+        "t": json_list(r.t),
+        "q": json_list(r.q),
+        "qdot": json_list(r.qdot),
+        "qddot": json_list(r.qddot),
+        "V": json_list(r.V),
+        "Q": json_list(r.Q),
+        "work": json_list(r.work),
+        "parameters": {k: json_number(v) for k, v in r.parameters.items()},
         "solver": r.solver,
         "steps": r.steps,
         "evaluations": {
@@ -550,22 +544,18 @@ def time_json(r: TimeMotion) -> dict[str, Any]:
             "jacobian": r.jacobian_evaluations,
             "lu": r.lu_decompositions,
         },
-        "stiffness_ratio": _num(r.stiffness_ratio),
+        "stiffness_ratio": json_number(r.stiffness_ratio),
         "error": {
-            "q": _num(r.error),
-            "qdot": _num(r.error_qdot),
-            "energy": _num(r.energy_residual),
+            "q": json_number(r.error),
+            "qdot": json_number(r.error_qdot),
+            "energy": json_number(r.energy_residual),
         },
         "coefficients": r.coefficients,
-        "table_error": _num(r.table_error),
+        "table_error": json_number(r.table_error),
         "table_points": r.table_points,
         "stopped": r.stopped,
         "warnings": list(r.warnings),
     }
-
-
-def _fmt(x: float | None) -> str:
-    return "-" if x is None or not np.isfinite(x) else f"{x:.6g}"
 
 
 def time_report(r: TimeMotion, rows: int = 11) -> str:

@@ -76,6 +76,7 @@ from mjstruct.kinematics.tolerances import (
     TURNS,
 )
 from mjstruct.mechanism import Mechanism
+from mjstruct.output_numbers import json_number
 from mjstruct.structure.mobility import dof_grubler
 from mjstruct.typing import FloatArray
 
@@ -110,13 +111,13 @@ class Zone:
         d: dict[str, Any] = {
             "pair": list(self.pair),
             "link": self.link,
-            "psi": _num(self.psi),
+            "psi": json_number(self.psi),
             "method": self.method,
-            "lambda": _num(self.lam),
-            "delta": _num(self.delta),
+            "lambda": json_number(self.lam),
+            "delta": json_number(self.delta),
         }
         if self.psi_exact is not None:
-            d["psi_exact"] = _num(self.psi_exact)
+            d["psi_exact"] = json_number(self.psi_exact)
         return d
 
 
@@ -150,8 +151,8 @@ class SingularPosition:
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
             "kind": self.kind,
-            "q": _num(self.q),
-            "output_angle": _num(self.output_angle),
+            "q": json_number(self.q),
+            "output_angle": json_number(self.output_angle),
             "collinear": list(self.collinear),
         }
         if self.zone is not None:
@@ -183,10 +184,10 @@ class FoldArc:
     def to_dict(self) -> dict[str, Any]:
         return {
             "kind": self.kind,
-            "q_from": _num(self.q_from),
-            "q_to": _num(self.q_to),
+            "q_from": json_number(self.q_from),
+            "q_to": json_number(self.q_to),
             "joints": list(self.joints),
-            "output_angle": _num(self.output_angle),
+            "output_angle": json_number(self.output_angle),
         }
 
 
@@ -220,12 +221,12 @@ class SingularAnalysis:
         if self.fourbar is not None:
             f = self.fourbar
             fb = {
-                "MS": [_num(p) for p in f.MS],
+                "MS": [json_number(p) for p in f.MS],
                 "grashof": f.grashof,
                 "motion": f.motion,
                 "system4": list(f.system4),
-                "swing": _num(f.swing),
-                "time_ratio": _num(f.time_ratio),
+                "swing": json_number(f.swing),
+                "time_ratio": json_number(f.time_ratio),
                 "output_link": self.fourbar_output,
             }
         return {
@@ -234,17 +235,15 @@ class SingularAnalysis:
             "singular": [p.to_dict() for p in self.singular],
             "input_range": {
                 "full_turn": self.input_range.full_turn,
-                "intervals": [[_num(a), _num(b)] for a, b in self.input_range.intervals],
+                "intervals": [
+                    [json_number(a), json_number(b)] for a, b in self.input_range.intervals
+                ],
             },
             "fourbar": fb,
             "fold_arcs": [a.to_dict() for a in self.fold_arcs],
-            "clearance": _num(self.clearance),
+            "clearance": json_number(self.clearance),
             "warnings": list(self.warnings),
         }
-
-
-def _num(v: float | None) -> float | None:
-    return None if v is None or not math.isfinite(v) else float(v)
 
 
 def dof(m: Mechanism) -> int:
