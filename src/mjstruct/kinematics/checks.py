@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.kinematics.closure import closure_jacobian
-from mjstruct.kinematics.jacobian import check_jacobian
+from mjstruct.kinematics.jacobian import check_jacobian, one_blas_thread
 from mjstruct.kinematics.model import Motion
 from mjstruct.kinematics.result import KinematicsResult
 from mjstruct.kinematics.tolerances import NEAR_SINGULAR
@@ -160,7 +160,7 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
             "q_of_max_error": at,
         }
     # constraint Jacobian: rank (mobility refinement) and driver-fixed determinant
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"), one_blas_thread():
         jc = check_jacobian(m, g, ev.poses, r.plan.drivers, factor=plan_determinant(motion))
     r.jacobian = jc
     seen = jc.rank[v]

@@ -27,7 +27,11 @@ Examples
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -40,6 +44,27 @@ from mjstruct.mechanism import Mechanism
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int_]
+
+#: the threadpoolctl controller, made once (making one scans the loaded libraries, about
+#: 1 ms) and again when scipy's own BLAS has been loaded since: [scipy loaded, controller]
+_BLAS: list[Any] = []
+
+
+@contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """Limit BLAS/LAPACK to one thread inside the block (threadpoolctl).
+
+    The checks and the closure run many tiny or batched small-matrix factorisations;
+    a multithreaded BLAS spends more on waking its threads than on the arithmetic, and
+    under load much more (docs/decisions.md).
+    """
+    from threadpoolctl import ThreadpoolController
+
+    key = "scipy.linalg" in sys.modules
+    if not _BLAS or _BLAS[0] != key:
+        _BLAS[:] = [key, ThreadpoolController()]
+    with _BLAS[1].limit(limits=1, user_api="blas"):
+        yield
 
 
 @dataclass(frozen=True)

@@ -36,6 +36,7 @@ from mjstruct.kinematics.branches import BranchEvent, track_branches
 from mjstruct.kinematics.closure import Closure, close
 from mjstruct.kinematics.evaluate import Evaluation, evaluate
 from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.jacobian import one_blas_thread
 from mjstruct.kinematics.planner import Plan, plan_kinematics
 from mjstruct.kinematics.tolerances import CLOSURE_TOL, REDUNDANT_HOLDS, TOL_FLOOR
 from mjstruct.kinematics.triangles import Jet
@@ -198,7 +199,9 @@ class KinematicModel:
         sol: Closure | None = None
         t = t1 = t2 = None
         if plan.unknowns:
-            with np.errstate(all="ignore"):  # trouble is reported per frame below
+            # trouble is reported per frame below; one BLAS thread for the batched
+            # small solves of Newton (threads only add wake-up cost there)
+            with np.errstate(all="ignore"), one_blas_thread():
                 sol = close(self, qa, rate, tol=tol)
             # frames that did not close carry no configuration (null, reported)
             t = np.where(sol.converged[:, None], sol.t, np.nan)
