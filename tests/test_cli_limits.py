@@ -84,3 +84,91 @@ def test_convert_keeps_balanced_and_special_geometry_drivers(
     assert json.loads(out.read_text())["drivers"] == ["O1"]
     status, _, err = _cli([*argv[:3], "O1,O2", *argv[4:]], capsys)
     assert status == 2 and "--drivers: " in err and "over-constrained" in err
+
+
+FOUR_BAR = str(example_path("four-bar"))
+
+
+def test_plot_refuses_frames_beyond_the_memory_limit_with_the_estimate(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    out = str(tmp_path / "c.svg")
+    argv = ["plot", FOUR_BAR, "--what", "angles", "-o", out, "--frames", "10000000"]
+    status, stdout, err = _cli(argv, capsys)
+    assert (status, stdout) == (2, "") and err.count("\n") == 1
+    assert "--frames: 10000000 frames need about 5.4e+09 bytes" in err
+    assert "--max-memory, or MJSTRUCT_MAX_MEMORY_BYTES" in err and "frames fit" in err
+    fits = int(err.split("at most ")[1].split()[0])
+    assert 10**6 < fits < 10**7 and list(tmp_path.iterdir()) == []
+    # the limit is raised (or lowered) by the flag and the environment
+    small = ["plot", FOUR_BAR, "--what", "angles", "-o", out, "--frames", "2000"]
+    assert _cli([*small, "--max-memory", "100000"], capsys)[0] == 2
+    monkeypatch.setenv("MJSTRUCT_MAX_MEMORY_BYTES", "100000")
+    assert _cli(small, capsys)[0] == 2
+    status, _, err = _cli([*small, "--max-memory", str(10**9)], capsys)
+    assert status == 0, err
+
+
+def test_plot_of_many_frames_prints_no_matplotlib_warning(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import warnings
+
+    from matplotlib.figure import Figure
+
+    # matplotlib warns when placing the legend took over a second (many points): a
+    # matter of time, so the warning is raised here as matplotlib would
+    real = Figure.savefig
+
+    def slow_legend(self: Figure, *args: object, **kwargs: object) -> None:
+        warnings.warn(
+            'Creating legend with loc="best" can be slow with large amounts of data.',
+            UserWarning,
+            stacklevel=2,
+        )
+        real(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", slow_legend)
+    argv = ["plot", FOUR_BAR, "--what", "angles", "-o", str(tmp_path / "c.png")]
+    status, _, err = _cli([*argv, "--frames", "50"], capsys)
+    assert (status, err) == (0, "")
+
+
+def test_animate_caps_frames_unless_long_and_estimates_memory(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from mjstruct.cli.animate import MAX_FRAMES
+
+    out = str(tmp_path / "a.gif")
+    status, _, err = _cli(["animate", FOUR_BAR, "-o", out, "--frames", "1000000"], capsys)
+    assert status == 2 and err.count("\n") == 1
+    assert f"at most {MAX_FRAMES}); pass --long" in err and "1000000 frames (5e+04 s" in err
+    # with --long the images a .gif keeps are estimated: 1e6 frames of 480 x 1008 RGBA
+    argv = ["animate", FOUR_BAR, "-o", out, "--frames", "1000000", "--long"]
+    status, _, err = _cli(argv, capsys)
+    assert status == 2 and "need about 1.9e+12 bytes" in err and "--max-memory" in err
+    assert list(tmp_path.iterdir()) == []
+    status, _, err = _cli(["animate", FOUR_BAR, "-o", out, "--frames", "4", "--json"], capsys)
+    assert status == 0, err
+
+
+@pytest.mark.parametrize("kmax", ["17", "1000", "1000000"])
+def test_cells_refuses_kmax_beyond_the_limit_with_the_count(
+    kmax: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    status, out, err = _cli(["cells", "--kmax", kmax], capsys)
+    assert (status, out) == (2, "") and err.count("\n") == 1
+    assert f"--kmax: K <= {kmax} gives about " in err and "pass --large" in err
+    assert "71183 at K = 16" in err
+
+
+def test_cells_at_the_limit_and_beyond_with_large(capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from mjstruct.cli.cells import COUNT_AT_MAX, MAX_KMAX
+
+    status, out, _ = _cli(["cells", "--kmax", str(MAX_KMAX), "--json"], capsys)
+    assert status == 0
+    assert sum(len(c["MJA"]) for c in json.loads(out)["cells"]) == COUNT_AT_MAX
+    status, out, _ = _cli(["cells", "--kmax", str(MAX_KMAX + 1), "--large", "--json"], capsys)
+    assert status == 0 and json.loads(out)["kmax"] == MAX_KMAX + 1

@@ -13,6 +13,7 @@ from mjstruct.cli.draw import (
     layer_options,
     read_model,
 )
+from mjstruct.cli.plot import check_frames_memory
 from mjstruct.errors import MechanismError
 
 
@@ -23,6 +24,25 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fps", type=int, default=20, help="frames per second (default 20)")
     p.add_argument("--dpi", type=int, default=80, help="resolution of each frame (default 80)")
     add_output_arguments(p, ".gif, .html, or .mp4 (needs ffmpeg)")
+    p.add_argument(
+        "--long",
+        action="store_true",
+        help=f"allow more than {MAX_FRAMES} frames",
+    )
+    p.add_argument(
+        "--max-memory",
+        type=int,
+        metavar="BYTES",
+        help="memory limit of the estimate (default: MJSTRUCT_MAX_MEMORY_BYTES or 2 GiB)",
+    )
+
+
+#: frames an animation may have without --long (3 minutes at the default 20 fps)
+MAX_FRAMES = 3600
+#: the animation's figure: 6 inches wide, at most 2 × 6 + 0.6 inches high
+#: (:func:`mjstruct.plot.drawing.figure_for`), one RGBA image per frame kept in memory
+#: by the .gif and .html writers (.mp4 streams them to ffmpeg)
+FRAME_INCHES = (6.0, 12.6)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,6 +56,12 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--fps: must be >= 1, got {args.fps}")
     if args.dpi < 10:
         raise MechanismError(f"--dpi: must be >= 10, got {args.dpi}")
+    if args.frames > MAX_FRAMES and not args.long:
+        raise MechanismError(
+            f"--frames: {args.frames} frames ({args.frames / args.fps:.3g} s at {args.fps} "
+            f"fps) are more than an animation needs (at most {MAX_FRAMES}); pass --long "
+            "to allow more"
+        )
     import matplotlib
 
     matplotlib.use("Agg")
@@ -46,6 +72,9 @@ def run(args: argparse.Namespace) -> int:
             "-o: writing .mp4 needs ffmpeg, which is not installed (use .gif or .html)"
         )
     model = read_model(args)
+    width, height = (round(inches * args.dpi) for inches in FRAME_INCHES)
+    image = 0 if suffix == ".mp4" else 4 * width * height
+    check_frames_memory(model, args.frames, args.max_memory, frame_bytes=image)
     layers, paths = layer_options(args, model)
     from mjstruct.plot.drawing import scene_over_cycle
     from mjstruct.synthesis.parallel import ProgressBar

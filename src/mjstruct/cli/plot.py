@@ -6,9 +6,14 @@ determinant, a four-bar's transmission angle); the charts are listed in
 from __future__ import annotations
 
 import argparse
+import warnings as warnings_module
+from typing import TYPE_CHECKING
 
 from mjstruct.cli.draw import add_model_arguments, add_output_arguments, finish, read_model
 from mjstruct.errors import MechanismError
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.model import KinematicModel
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -23,6 +28,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     add_output_arguments(p, ".svg, .png or .pdf")
     p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
+    p.add_argument(
+        "--max-memory",
+        type=int,
+        metavar="BYTES",
+        help="memory limit of the estimate (default: MJSTRUCT_MAX_MEMORY_BYTES or 2 GiB)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,6 +47,7 @@ def run(args: argparse.Namespace) -> int:
     if args.dpi < 10:
         raise MechanismError(f"--dpi: must be >= 10, got {args.dpi}")
     model = read_model(args)
+    check_frames_memory(model, args.frames, args.max_memory)
     ids = None if args.ids is None else [x.strip() for x in args.ids.split(",") if x.strip()]
 
     import matplotlib
@@ -62,11 +74,40 @@ def run(args: argparse.Namespace) -> int:
                 text = flag + text[len(param) :]
         raise MechanismError(text) from None
     try:
-        fig.tight_layout()
-        write_atomically(args.output, lambda tmp: fig.savefig(tmp, dpi=args.dpi), name="-o")
+        with warnings_module.catch_warnings():
+            # advice for interactive use (the legend's best place is slow to find among
+            # many points), not a problem of the chart written
+            warnings_module.filterwarnings("ignore", "Creating legend with loc", UserWarning)
+            fig.tight_layout()
+            write_atomically(args.output, lambda tmp: fig.savefig(tmp, dpi=args.dpi), name="-o")
     finally:
         plt.close(fig)
     warnings = []
     if not fig.axes or not any(ax.get_lines() for ax in fig.axes):
         warnings.append("nothing to plot")
     return finish(args, "plot", {"what": args.what, "frames": args.frames}, warnings)
+
+
+def check_frames_memory(
+    model: KinematicModel, frames: int, max_memory: int | None, frame_bytes: int = 0
+) -> int:
+    """Refuse a frame count whose estimated memory exceeds the limit; the estimate.
+
+    The motion is estimated as a kinematic sweep without checks
+    (:func:`mjstruct.kinematics.memory.sweep_bytes`), plus ``frame_bytes`` per frame
+    for what the command keeps of each frame (an animation's images).
+    """
+    from mjstruct.cli.output import flag_names
+    from mjstruct.kinematics.memory import MEMORY_ENV, memory_limit, sweep_bytes
+
+    with flag_names(max_memory="--max-memory"):
+        limit = memory_limit(max_memory)
+    per_frame = sweep_bytes(model, 1, checks=False) + frame_bytes
+    need = per_frame * frames
+    if need > limit:
+        raise MechanismError(
+            f"--frames: {frames} frames need about {need:.2g} bytes, over the limit of "
+            f"{limit:.3g} bytes (--max-memory, or {MEMORY_ENV}); at most "
+            f"{limit // per_frame} frames fit"
+        )
+    return need
