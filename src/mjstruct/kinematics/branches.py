@@ -133,6 +133,32 @@ def _boundary(model: KinematicModel, a: FloatArray, b: FloatArray, K: Modes, k: 
     return float(a[0])
 
 
+#: bisections locating a dead point of a plan with closure unknowns (2^-44 of a frame step)
+CLOSURE_BISECTIONS = 44
+
+
+def _closure_boundary(
+    model: KinematicModel, a: FloatArray, b: FloatArray, ta: FloatArray, K: Modes, k: int
+) -> float:
+    """q where a plan with closure unknowns stops assembling between a and b.
+
+    Bisection on whether the closure still closes (Newton from the last closed point,
+    so that it follows the branch into the fold) and step k assembles there: the
+    fold of the closure, the input limit of the singular analysis.
+    """
+    from mjstruct.kinematics.closure import newton
+
+    lo, hi, t = a.copy(), b.copy(), ta.copy()
+    for _ in range(CLOSURE_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        tn, _, _, ok = newton(model, mid[None, :], t[None, :], K)
+        if ok[0] and np.isfinite(_sine(model, mid[None, :], K, k, tn)).all():
+            lo, t = mid, tn[0]
+        else:
+            hi = mid
+    return float(lo[0])
+
+
 def track_branches(
     model: KinematicModel,
     q: FloatArray,
@@ -195,7 +221,12 @@ def track_branches(
             if _near_event(events, k, e):
                 continue
             a, b = (e, e + 1) if ok[e] else (e + 1, e)
-            qb = _boundary(model, q[a], q[b], _modes_at(K, a), k) if switchable else float(q[a, 0])
+            if switchable:
+                qb = _boundary(model, q[a], q[b], _modes_at(K, a), k)
+            elif t is not None and np.isfinite(t[a]).all():
+                qb = _closure_boundary(model, q[a], q[b], t[a], _modes_at(K, a), k)
+            else:
+                qb = float(q[a, 0])
             events.append(BranchEvent(qb, int(a), k, s.joint, "dead point", 0.0, "kept"))
     events.sort(key=lambda e: (e.frame, e.step))
     return K, events

@@ -89,6 +89,8 @@ class Closure:
     converged: BoolArray
     tol: float
     jumps: tuple[int, ...] = ()
+    #: frames closed by continuation from the reference the other way (past a gap)
+    reseeded: tuple[int, ...] = ()
 
 
 def closing_steps(model: KinematicModel) -> tuple[int, ...] | None:
@@ -340,6 +342,7 @@ def close(
     K: Modes | None = None,
     tol: float = NEWTON_TOL,
     maxiter: int = 30,
+    reseed: bool = True,
 ) -> Closure:
     """Solve the closure unknowns on frames ``q`` (frames × drivers), then their derivatives.
 
@@ -350,6 +353,10 @@ def close(
     steps the closure reads (:func:`closing_steps`); a station's last one also gives its
     tangent, so the number of evaluations depends on the path's length and curvature,
     not on the number of frames.
+
+    Frames equal to the reference close there (unknowns 0).  With ``reseed``, frames
+    the path did not reach (beyond an infeasible stretch) are sought by continuation
+    from the reference the other way (:func:`_reseed`); ``reseeded`` lists them.
     """
     F, k = q.shape[0], model.plan.unknowns
     q_ref = model.q_ref
@@ -488,6 +495,22 @@ def close(
                 model, q[fixed], t[fixed], _subset_modes(K, fixed), None, only
             )[1]
     t1, t2 = _derivatives(model, q, t, rate, K, J, only)
+    # 4. the reference configuration closes by construction (every unknown 0), and
+    # frames the path from frame 0 did not reach are sought from the reference again
+    at_ref = np.flatnonzero(~ok & (np.abs(q - q_ref).max(axis=1) == 0))
+    if at_ref.size:
+        R0, _, _ = closure_jets(
+            model, q[at_ref], np.zeros((at_ref.size, k)), _subset_modes(K, at_ref), None, only
+        )
+        e0 = np.abs(R0).max(axis=1) / model.geometry.scale
+        t[at_ref], err[at_ref], t1[at_ref], t2[at_ref] = 0.0, e0, np.nan, np.nan
+        ok[at_ref] = e0 <= STALL_ERROR * tol
+        if ok[at_ref].any():
+            r = at_ref[ok[at_ref]]
+            t1[r], t2[r] = derivatives(model, q[r], t[r], rate, _subset_modes(K, r))
+    reseeded: tuple[int, ...] = ()
+    if reseed and not ok.all():
+        reseeded = _reseed(model, q, rate, K, tol, maxiter, t, t1, t2, err, ok)
     if q.shape[1] == 1 and D0 is not None and dir0[0] != 0:
         d0 = D0 * (rate[0] / dir0[0])  # the tangent is linear in the driver rates
     else:
@@ -495,7 +518,56 @@ def close(
             model, q_ref[None, :], np.zeros((1, k)), _subset_modes(K, np.array([0])), rate
         )[0]
     jumps = branch_jumps(q, q_ref, t, t1, d0, ok, rate)
-    return Closure(t, t1, t2, err, iters, ok, tol, jumps)
+    return Closure(t, t1, t2, err, iters, ok, tol, jumps, reseeded)
+
+
+def _reseed(
+    model: KinematicModel,
+    q: FloatArray,
+    rate: FloatArray,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+    t: FloatArray,
+    t1: FloatArray,
+    t2: FloatArray,
+    err: FloatArray,
+    ok: BoolArray,
+) -> tuple[int, ...]:
+    """Continue from the reference again to the frames the path did not reach.
+
+    Past an infeasible stretch the path's continuation has nothing to follow, yet the
+    frames beyond may lie on the reference's branch, reached from the reference the
+    other way (a rocking input).  A revolute driver's angle is taken modulo 2π
+    (within π of the reference: the mechanism is the same), the missed frames are
+    sorted by their distance from the reference on each side, and each side is
+    closed by continuation from the reference.  Fills ``t``, ``t1``, ``t2``, ``err``
+    and ``ok`` in place; returns the frames it closed.
+    """
+    miss = np.flatnonzero(~ok)
+    q_ref = model.q_ref
+    turns = np.array([model.mechanism.joint(d).kind == "R" for d in model.drivers])
+    d = q[miss] - q_ref
+    d[:, turns] -= 2 * np.pi * np.round(d[:, turns] / (2 * np.pi))
+    lead = np.abs(d).argmax(axis=1)
+    side = np.sign(d[np.arange(miss.size), lead])
+    dist = np.abs(d).max(axis=1)
+    found: list[int] = []
+    for sgn in (1.0, -1.0):
+        pick = np.flatnonzero(side == sgn)
+        if pick.size == 0:
+            continue
+        pick = pick[np.argsort(dist[pick], kind="stable")]
+        frames = miss[pick]
+        sol = close(
+            model, q_ref + d[pick], rate, _subset_modes(K, frames), tol, maxiter, reseed=False
+        )
+        got = sol.converged
+        fr = frames[got]
+        t[fr], t1[fr], t2[fr], err[fr] = sol.t[got], sol.t1[got], sol.t2[got], sol.error[got]
+        ok[fr] = True
+        found += [int(i) for i in fr]
+    return tuple(sorted(found))
 
 
 def branch_jumps(

@@ -320,7 +320,16 @@ def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
     # only steps with an assembly mode (circle intersections, closures) can carry the
     # wrong branch across a gap; line-line dyads (PRP, RPP) have a single solution
     has_modes = any(s.step_kind.has_modes or s.is_closure for s in r.plan.steps)
-    if after and has_modes:
+    reseeded = set(() if r.closure is None else r.closure.reseeded)
+    if after and has_modes and after[0] - offset in reseeded:
+        # closed from the reference backwards: the branch of the reference, reached by
+        # the driver turning the other way (it cannot cross the gap)
+        out.append(
+            f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
+            "reached from the reference with the driver turning the other way (the same "
+            "branch; the driver cannot cross the gap, it rocks)"
+        )
+    elif after and has_modes:
         # the motion cannot physically cross an infeasible interval: say so
         out.append(
             f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
