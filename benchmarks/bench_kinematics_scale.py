@@ -46,6 +46,7 @@ def shared_crank(k: int):  # type: ignore[no-untyped-def]
 
 def _one(n: int, frames: int, repeat: int) -> dict[str, float]:
     """Measure one size (run in a child process)."""
+    from mjstruct.kinematics.memory import sweep_bytes
     from mjstruct.kinematics.model import KinematicModel
     from mjstruct.kinematics.solver import kinematic_analysis
 
@@ -68,6 +69,8 @@ def _one(n: int, frames: int, repeat: int) -> dict[str, float]:
     out["valid"] = float(r.valid.mean())
     out["factor_error"] = float(r.checks["jacobian"]["det_from_plan_error"] or -1)
     out["rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    # the guard's estimate of the default call, against the measured peak
+    out["estimate_mb"] = sweep_bytes(model, frames) / 2**20
     return out
 
 
@@ -88,14 +91,18 @@ def main() -> None:
     )
     print(
         f"{'links':>6} {'plan ms':>9} {'no checks ms':>13} {'checks ms':>10} "
-        f"{'checks us/link':>15} {'slope':>6} {'peak MB':>8} {'valid':>6} {'det err':>8}"
+        f"{'checks us/link':>15} {'slope':>6} {'peak MB':>8} {'est. MB':>8} {'valid':>6} "
+        f"{'det err':>8}"
     )
     prev = None
     rows = []
     for n in (int(s) for s in args.sizes.split(",")):
         cmd = [sys.executable, __file__, "--child", str(n), "--frames", str(args.frames)]
         cmd += ["--repeat", str(args.repeat)]
-        got = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        if done.returncode:
+            sys.exit(f"size {n} failed:\n{done.stderr}")
+        got = json.loads(done.stdout)
         slope = (
             math.log(got["checks"] / prev["checks"]) / math.log(got["links"] / prev["links"])
             if prev
@@ -104,7 +111,8 @@ def main() -> None:
         print(
             f"{int(got['links']):6d} {got['plan'] * 1e3:9.1f} {got['no_checks'] * 1e3:13.1f} "
             f"{got['checks'] * 1e3:10.1f} {got['checks'] / got['links'] * 1e6:15.0f} "
-            f"{slope:6.2f} {got['rss_mb']:8.0f} {got['valid']:6.2f} {got['factor_error']:8.1e}"
+            f"{slope:6.2f} {got['rss_mb']:8.0f} {got['estimate_mb']:8.0f} {got['valid']:6.2f} "
+            f"{got['factor_error']:8.1e}"
         )
         prev = got
         rows.append(got)
@@ -132,9 +140,11 @@ def plot(rows: list[dict[str, float]], frames: int, path: str) -> None:
     ax.set_ylabel("seconds")
     ax.set_title(f"time, {frames} frames")
     ax.legend(fontsize=8)
-    am.loglog(n, [r["rss_mb"] for r in rows], "o-", color="C3")
+    am.loglog(n, [r["rss_mb"] for r in rows], "o-", color="C3", label="peak RSS")
+    am.loglog(n, [r["estimate_mb"] for r in rows], "s--", color="C4", label="guard's estimate")
+    am.legend(fontsize=8)
     am.set_xlabel("links")
-    am.set_ylabel("peak RSS, MB")
+    am.set_ylabel("MB")
     am.set_title("peak memory (default call)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
