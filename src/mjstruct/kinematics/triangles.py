@@ -55,20 +55,24 @@ class Pose:
             return list(self.A)
         rd = self.r * (z - self.zA)
         out = [self.A[0] + rd]
-        if len(self.A) > 1:
-            out.append(self.A[1] + 1j * self.w[0] * rd)
-        if len(self.A) > 2:
-            out.append(self.A[2] + (1j * self.w[1] - self.w[0] ** 2) * rd)
+        # at a singular frame ω is infinite: its point's rates are NaN there, which the
+        # frame's validity reports (not a numpy warning)
+        with np.errstate(invalid="ignore", over="ignore"):
+            if len(self.A) > 1:
+                out.append(self.A[1] + 1j * self.w[0] * rd)
+            if len(self.A) > 2:
+                out.append(self.A[2] + (1j * self.w[1] - self.w[0] ** 2) * rd)
         return out
 
     def vector(self, v: complex) -> Jet:
         """Jet of a direction fixed to the link (reference value ``v``)."""
         rv = self.r * v
         out = [rv]
-        if len(self.A) > 1:
-            out.append(1j * self.w[0] * rv)
-        if len(self.A) > 2:
-            out.append((1j * self.w[1] - self.w[0] ** 2) * rv)
+        with np.errstate(invalid="ignore", over="ignore"):  # as in :meth:`point`
+            if len(self.A) > 1:
+                out.append(1j * self.w[0] * rv)
+            if len(self.A) > 2:
+                out.append((1j * self.w[1] - self.w[0] ** 2) * rv)
         return out
 
 
