@@ -466,3 +466,13 @@ def test_a_model_of_another_mechanism_or_other_drivers_is_refused():
         seed, speed=1.0, frames=8, drivers=["O1"], model=KinematicModel.build(seed)
     )
     assert r.drivers == ("O1",)
+
+
+@pytest.mark.parametrize("name", ["fourbar-ms1", "fourbar-ms5"])
+def test_change_point_frames_print_no_numpy_warning(name: str) -> None:
+    """Frames at a change point have no analogs (NaN, reported): no RuntimeWarning."""
+    r = run_cli(str(SEED.parent / f"{name}.json"), "--speed", "1", "--frames", "36", "--json")
+    assert r.returncode == 0, r.stderr
+    assert "Warning" not in r.stderr, r.stderr
+    out = json.loads(r.stdout)
+    assert len(out["q"]) == 36

@@ -139,6 +139,9 @@ def _jets(
     return c, th
 
 
+# frames without a configuration carry NaN analogs (0 * NaN is intended there): they are
+# marked in `valid` and reported, so numpy's warning would only repeat it
+@np.errstate(invalid="ignore")
 def link_motion(
     model: KinematicModel,
     inertia: Mapping[str, LinkInertia],
