@@ -190,11 +190,6 @@ def test_the_unchanged_file_is_answered(
     assert json.loads(capsys.readouterr().out)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="found by this fuzz: a load whose value is complex (sqrt(-1)) ends in an "
-    "internal error (TypeError in the dynamics expressions); left to the dynamics owner",
-)
 def test_a_complex_load_value_is_bad_input(tmp_path: Path) -> None:
     data = _mutated([])
     data["loads"] = [*data["loads"], {"link": "3", "moment": "sqrt(-1)"}]

@@ -45,7 +45,15 @@ from mjstruct.dynamics.reactions import (
     system_matrix,
     unknowns,
 )
-from mjstruct.errors import MechanismError, NumericalError
+from mjstruct.errors import (
+    MechanismError,
+    NumericalError,
+    expect_ids,
+    expect_instance,
+    expect_int,
+    expect_mechanism,
+    expect_number,
+)
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
 from mjstruct.output_numbers import json_list, json_number
@@ -201,11 +209,17 @@ def dynamic_analysis(
     The function is ``dynamic_analysis`` because ``mjstruct.dynamics`` is the
     subpackage.
     """
+    expect_mechanism(mechanism, "mechanism")
     modes = [speed is not None, qdot0 is not None, q is not None]
     if sum(modes) != 1:
         raise MechanismError("speed: give exactly one of speed, qdot0 and q")
-    if frames < 1:
-        raise MechanismError(f"frames: must be >= 1, got {frames}")
+    for value, name in ((speed, "speed"), (qdot0, "qdot0")):
+        if value is not None:
+            expect_number(value, name)
+    frames = expect_int(frames, "frames", 1)
+    expect_ids(drivers, "drivers")
+    if model is not None:
+        expect_instance(model, "model", KinematicModel, "a KinematicModel")
     if method not in METHODS:
         raise MechanismError(
             f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})"

@@ -110,6 +110,9 @@ def parse_expression(text: Any, parameters: Collection[str], where: str) -> symp
     # sympy folds 1/0, log(0), oo - oo into zoo, oo, nan: no float means that
     if any(expr.has(c) for c in (sympy.zoo, sympy.oo, -sympy.oo, sympy.nan)):
         raise MechanismError(f"{where}: {text!r} is not finite (a division by zero or a pole)")
+    # sqrt(-1) folds to I: a load is a real number
+    if expr.has(sympy.I):
+        raise MechanismError(f"{where}: {text!r} is not a real number")
     return expr
 
 
