@@ -245,6 +245,10 @@ class Topology:
             x: tuple(j for j in m.link_joints[x] if self.kind[j] == "P" and j not in drivers)
             for x in m.links
         }
+        # links of each joint, and how many of them have a guide: a rule that needs
+        # two guided links at a joint skips a multiple joint of unguided ones at once
+        self.links_of = {j.id: j.links for j in m.joints}
+        self.guided = {j.id: sum(1 for x in j.links if self.guides[x]) for j in m.joints}
 
 
 class PlanState:
@@ -263,6 +267,9 @@ class PlanState:
         self.placed: set[str] = set()
         self.known: set[str] = set()
         self.count: dict[str, int] = dict.fromkeys(m.links, 0)
+        # per joint: how many of its links have exactly one known centre (a dyad at an
+        # unknown joint needs one; a multiple joint without any is skipped in O(1))
+        self.ones: dict[str, int] = dict.fromkeys(topo.links_of, 0)
         self.steps: list[Step] = []
         self.unknowns = 0
         self.allowed: set[str] | None = None
@@ -272,6 +279,7 @@ class PlanState:
     def copy(self) -> PlanState:
         s = PlanState(self.m, self.geom, self.topo)
         s.placed, s.known, s.count = set(self.placed), set(self.known), dict(self.count)
+        s.ones = dict(self.ones)
         s.steps, s.unknowns, s.allowed = list(self.steps), self.unknowns, self.allowed
         s.queues = {k: list(v) for k, v in self.queues.items()}
         s.queued = {k: set(v) for k, v in self.queued.items()}
@@ -353,6 +361,10 @@ class PlanState:
         self.known.add(joint)
         for x in self.m.joint(joint).links:
             self.count[x] += 1
+            if self.count[x] <= 2:
+                step = 1 if self.count[x] == 1 else -1
+                for j in self.m.link_joints[x]:
+                    self.ones[j] += step
             if self.count[x] == 1:
                 self.push_joints_of(x)
             elif self.count[x] == 2:
@@ -373,30 +385,46 @@ class PlanState:
             return {}
         if a in targets:
             return {a: (0, 1)}
-        dist = {("j", a): 0}
-        sigma = {("j", a): 1}
-        frontier = [("j", a)]
+        # joints and links kept apart (no tuple per node): the same breadth-first
+        # counts, a smaller constant on multiple joints of many links
+        placed, known = self.placed, self.known
+        links_of, revolute = self.topo.links_of, self.topo.revolute
+        dj: dict[str, int] = {a: 0}
+        sj: dict[str, int] = {a: 1}
+        dl: dict[str, int] = {}
+        sl: dict[str, int] = {}
+        frontier = [a]
         found: dict[str, tuple[int, int]] = {}
         d = 0
         while frontier:
-            nxt: list[tuple[str, str]] = []
-            for node in frontier:
-                kind, ident = node
-                if kind == "j":
-                    nbrs = [("l", x) for x in self.m.joint(ident).links if x in self.placed]
-                else:
-                    nbrs = [("j", j) for j in self.topo.revolute[ident] if j in self.known]
-                for nb in nbrs:
-                    if nb not in dist:
-                        dist[nb] = d + 1
-                        sigma[nb] = 0
-                        nxt.append(nb)
-                    if dist[nb] == d + 1:
-                        sigma[nb] += sigma[node]
+            nxt: list[str] = []
+            if d % 2 == 0:  # joints -> placed links
+                for node in frontier:
+                    w = sj[node]
+                    for x in links_of[node]:
+                        if x in placed:
+                            if x not in dl:
+                                dl[x] = d + 1
+                                sl[x] = w
+                                nxt.append(x)
+                            elif dl[x] == d + 1:
+                                sl[x] += w
+            else:  # links -> known revolute centres
+                for node in frontier:
+                    w = sl[node]
+                    for j in revolute[node]:
+                        if j in known:
+                            if j not in dj:
+                                dj[j] = d + 1
+                                sj[j] = w
+                                nxt.append(j)
+                            elif dj[j] == d + 1:
+                                sj[j] += w
             d += 1
-            for node in nxt:
-                if node[0] == "j" and node[1] in targets:
-                    found[node[1]] = (d, sigma[node])
+            if d % 2 == 0:
+                for j in nxt:
+                    if j in targets:
+                        found[j] = (d, sj[j])
             if found and (not full or len(found) == len(targets)):
                 break
             frontier = nxt

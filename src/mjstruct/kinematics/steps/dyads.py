@@ -185,7 +185,8 @@ def line_diagonal(st: PlanState, joint: str, base: str) -> int:
 def _plan_revolute_dyad(st: PlanState, jid: str) -> bool:
     """At an unknown revolute joint: a dyad RRR, else a dyad RRP (in file order)."""
     m = st.m
-    if jid in st.known:
+    # every branch below needs a link with exactly one known centre at the joint
+    if jid in st.known or not st.ones[jid]:
         return False
     j = m.joint(jid)
     cands = [x for x in j.links if st.free(x)]

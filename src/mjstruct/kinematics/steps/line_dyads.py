@@ -141,7 +141,8 @@ def _guides_diagonal(st: PlanState, base1: str, base2: str) -> int:
 
 def _plan_prp(st: PlanState, jid: str) -> bool:
     """At an unknown revolute joint: two sliders without known centres, each on a guide."""
-    if jid in st.known:
+    # two of the joint's links must have a guide
+    if jid in st.known or st.topo.guided[jid] < 2:
         return False
     cands = [x for x in st.m.joint(jid).links if st.free(x) and not st.count[x]]
     for ib, b in enumerate(cands):
