@@ -394,7 +394,14 @@ def _factored(
     # matrices kept for the result stay within the memory budget
     kept: list[FloatArray] = []
     dets: list[tuple[float, float]] = []
-    for i in range(cal.size):
+    if cal.size <= _chunk(nu, nc):
+        # small enough to build on all calibration frames in one call (the same
+        # elementwise arithmetic per frame: the same matrices, less call overhead)
+        Jc, Dc = constraint_jacobian(m, geom, poses_at(poses, cal), drivers)
+        JD = np.concatenate([Jc, Dc], axis=1)
+        dets = [_slogdet(JD[i]) for i in range(cal.size)]
+        kept = [Jc]
+    for i in range(0 if dets else cal.size):
         Ji, Di = constraint_jacobian(m, geom, poses_at(poses, cal[i : i + 1]), drivers)
         dets.append(_slogdet(np.concatenate([Ji, Di], axis=1)[0]))
         if len(kept) < _chunk(nu, nc):
