@@ -476,3 +476,44 @@ def test_change_point_frames_print_no_numpy_warning(name: str) -> None:
     assert "Warning" not in r.stderr, r.stderr
     out = json.loads(r.stdout)
     assert len(out["q"]) == 36
+
+
+@pytest.mark.parametrize(
+    ("name", "kwargs"), [("zhivago", {"speed": 1.0}), ("slider", {"qdot0": 10.0})]
+)
+def test_memory_estimate_is_close_to_the_measured_peak(
+    name: str, kwargs: dict[str, float]
+) -> None:
+    """The estimate that guards --frames is within 1.5× of a tracemalloc peak."""
+    import tracemalloc
+
+    from mjstruct.dynamics.memory import analysis_bytes
+
+    path = EXAMPLES / "zhivago-dynamics.json" if name == "zhivago" else SEED
+    m = read_mechanism(path)
+    dynamic_analysis(m, frames=64, **kwargs)  # imports and caches out of the measurement
+    frames = 3000
+    tracemalloc.start()
+    try:
+        dynamic_analysis(m, frames=frames, **kwargs)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    estimate = analysis_bytes(KinematicModel.build(m), frames)
+    assert peak / 1.5 < estimate < peak * 1.5, (estimate, peak)
+
+
+def test_cli_refuses_frames_beyond_the_memory_limit() -> None:
+    r = run_cli(str(SEED), "--speed", "1", "--frames", "100000", "--max-memory", "1000000")
+    assert r.returncode == 2
+    line = r.stderr.strip()
+    assert "\n" not in line and line.startswith("mjstruct dynamics: --frames:")
+    fits = int(line.rsplit("at most ", 1)[1].split()[0])
+    ok = run_cli(str(SEED), "--speed", "1", "--frames", str(fits), "--max-memory", "1000000")
+    assert ok.returncode == 0, ok.stderr
+
+
+def test_cli_run_in_time_beyond_its_evaluation_budget_is_refused() -> None:
+    r = run_cli(str(SEED), "--time", "1e9", "--max-evaluations", "3000")
+    assert r.returncode == 2
+    assert "--max-evaluations" in r.stderr and "by t = " in r.stderr

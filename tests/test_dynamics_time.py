@@ -190,6 +190,9 @@ def test_json_and_report() -> None:
         ({"t_end": 1.0, "qdot0": float("nan")}, "qdot0"),
         ({"t_end": 1.0, "rtol": 0.0}, "rtol"),
         ({"t_end": 1.0, "parameters": {"nope": 1.0}}, "parameters"),
+        ({"t_end": 1.0, "max_evaluations": 0}, "max_evaluations"),
+        # a run far longer than its evaluation budget is refused with the time it reached
+        ({"t_end": 1e6, "max_evaluations": 2000}, "max_evaluations"),
     ],
 )
 def test_bad_input_names_the_parameter(kwargs: dict[str, Any], field: str) -> None:

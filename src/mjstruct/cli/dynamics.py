@@ -26,6 +26,7 @@ FLAGS = {
     "method": "--method",
     "n": "--n",
     "harmonics": "--harmonics",
+    "max_memory": "--max-memory",
 }
 
 #: the flag of each parameter of :func:`~mjstruct.dynamics.time.motion_in_time`
@@ -36,6 +37,7 @@ TIME_FLAGS = {
     "method": "--solver",
     "rtol": "--rtol",
     "drivers": "--drivers",
+    "max_evaluations": "--max-evaluations",
 }
 
 
@@ -73,7 +75,19 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--solver", help="--time: auto (default), DOP853, RK45, Radau, BDF, LSODA")
     p.add_argument("--rtol", type=float, help="--time: relative tolerance (default 1e-8)")
+    p.add_argument(
+        "--max-evaluations",
+        type=int,
+        metavar="N",
+        help="--time: right-hand-side evaluations the run may take (default 5e5)",
+    )
     p.add_argument("--csv", metavar="OUT", help="write the table (q, qdot, ..., reactions) here")
+    p.add_argument(
+        "--max-memory",
+        type=int,
+        metavar="BYTES",
+        help="refuse runs estimated above this (default $MJSTRUCT_MAX_MEMORY_BYTES or 2 GiB)",
+    )
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
 
@@ -86,11 +100,14 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--frames: must be >= 1, got {args.frames}")
     if args.speed is not None and (not math.isfinite(args.speed) or args.speed == 0):
         raise MechanismError("--speed: must be a finite nonzero number")
-    for flag in ("start_speed", "rtol"):
+    for flag in ("start_speed", "rtol", "max_evaluations"):
         if args.time is None and getattr(args, flag) is not None:
             raise MechanismError(f"--{flag.replace('_', '-')}: only with --time")
     if args.time is None and args.solver is not None:
         raise MechanismError("--solver: only with --time")
+    if args.time is not None and args.max_memory is not None:
+        # a run in time keeps its steps, bounded by --max-evaluations instead
+        raise MechanismError("--max-memory: not with --time (see --max-evaluations)")
     if args.qdot0 is not None and not math.isfinite(args.qdot0):
         raise MechanismError("--qdot0: must be a finite number")
     if not 1 <= args.n <= 24:
@@ -115,6 +132,7 @@ def run(args: argparse.Namespace) -> int:
             method=args.method,
             n=args.n,
             harmonics=args.harmonics,
+            max_memory=args.max_memory,
         )
     if args.csv:
         try:
@@ -140,6 +158,7 @@ def _run_time(args: argparse.Namespace, m: Mechanism, drivers: list[str] | None)
             method="auto" if args.solver is None else args.solver,
             rtol=1e-8 if args.rtol is None else args.rtol,
             drivers=drivers,
+            **({} if args.max_evaluations is None else {"max_evaluations": args.max_evaluations}),
         )
     if args.csv:
         try:

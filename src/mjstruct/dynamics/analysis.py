@@ -36,6 +36,7 @@ from mjstruct.dynamics.equation import (
     steady_parameter,
 )
 from mjstruct.dynamics.matrices import LinkMotion, active_forces, check_dimensions, link_motion
+from mjstruct.dynamics.memory import check_analysis_memory
 from mjstruct.dynamics.reactions import (
     SINGULAR_CONDITION,
     generalised_drive,
@@ -177,6 +178,7 @@ def dynamic_analysis(
     n: int = 10,
     harmonics: int | None = None,
     model: KinematicModel | None = None,
+    max_memory: int | None = None,
 ) -> DynamicsResult:
     """Dynamics of a mechanism with geometry and the dynamics keys (``inertia``, ``loads``, ...).
 
@@ -198,6 +200,9 @@ def dynamic_analysis(
         :mod:`mjstruct.dynamics.equation`).
     model : a kinematic model of ``mechanism`` to reuse (its drivers are the
         analysis's: ``drivers`` must then be None or the same).
+    max_memory : refuse a run whose estimated memory
+        (:func:`mjstruct.dynamics.memory.analysis_bytes`) is above this many bytes
+        (default ``MJSTRUCT_MAX_MEMORY_BYTES`` or 2 GiB).
 
     Raises
     ------
@@ -262,6 +267,9 @@ def dynamic_analysis(
     D = len(model.drivers)
     if D == 0:
         raise MechanismError("drivers: dynamics needs at least one driver")
+    # a prescribed path's length is its frame count
+    count = frames if q is None else int(np.size(q)) // D
+    check_analysis_memory(model, count, max_memory)
     warnings: list[str] = []
     links = tuple(x for x in mechanism.links if x != model.frame)
     need_forces = bool(wanted & {"reactions", "driving", "check"})

@@ -50,7 +50,7 @@ import numpy.typing as npt
 from mjstruct.dynamics.data import DynamicsData, read_dynamics
 from mjstruct.dynamics.equation import PathForce, steady_parameter
 from mjstruct.dynamics.time_terms import TABLE_POINTS, ReducedEquation, reduced_equation
-from mjstruct.errors import MechanismError, NumericalError
+from mjstruct.errors import MechanismError, NumericalError, expect_int
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
 from mjstruct.output_numbers import json_list, json_number
@@ -178,6 +178,31 @@ class _Path:
         return out
 
 
+#: right-hand-side evaluations one run may take (``max_evaluations``): a run this long
+#: keeps every step for dense output, so its memory and time grow with it
+MAX_EVALUATIONS = 500_000
+
+
+class _Budget:
+    """Right-hand-side evaluations left to a run; raises :class:`_Spent` when used up."""
+
+    def __init__(self, evaluations: int) -> None:
+        self.left = self.total = evaluations
+
+    def spend(self, t: float) -> None:
+        self.left -= 1
+        if self.left < 0:
+            raise _Spent(t)
+
+
+class _Spent(Exception):
+    """The evaluation budget ran out at time ``t``."""
+
+    def __init__(self, t: float) -> None:
+        super().__init__(t)
+        self.t = t
+
+
 def _solve(
     eq: ReducedEquation,
     span: tuple[float, float],
@@ -187,6 +212,7 @@ def _solve(
     atol: FloatArray,
     rest: float,
     watch: bool,
+    budget: _Budget,
 ) -> _Segment:
     """One run from ``span[0]``; ``rest`` is the initial speed's sign (0: no rest event),
     ``watch`` ends the run where the remaining time holds more than
@@ -196,6 +222,7 @@ def _solve(
     t_end = span[1]
 
     def rhs(t: float, y: FloatArray) -> FloatArray:
+        budget.spend(t)
         qdd, Q = eq.rate(float(y[0]), float(y[1]))
         return np.array([y[1], qdd, Q * y[1]])
 
@@ -224,18 +251,25 @@ def _solve(
     if watch:
         events.append(turns_stiff)
     kw: dict[str, Any] = {} if method in EXPLICIT else {"jac": jac}
-    with np.errstate(all="ignore"):
-        sol = solve_ivp(
-            rhs,
-            span,
-            y0,
-            method=method,
-            rtol=rtol,
-            atol=atol,
-            dense_output=True,
-            events=events or None,
-            **kw,
-        )
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(
+                rhs,
+                span,
+                y0,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                dense_output=True,
+                events=events or None,
+                **kw,
+            )
+    except _Spent as spent:
+        raise MechanismError(
+            f"max_evaluations: the run used its {budget.total} right-hand-side evaluations "
+            f"by t = {spent.t:.6g} of {t_end:.6g} (a shorter t_end, a looser tolerance, or a "
+            "larger max_evaluations)"
+        ) from None
     if sol.status == -1:
         raise NumericalError(
             f"the {method} integration failed at t = {float(sol.t[-1]):.9g}: {sol.message}"
@@ -254,18 +288,19 @@ def _integrate(
     rtol: float,
     atol: FloatArray,
     stop_at_rest: bool,
+    budget: _Budget,
 ) -> _Path:
     """Solve over ``[0, t_end]``; ``auto`` starts explicitly and goes on with Radau
     from where the rest of the run is stiff."""
     rest = float(np.sign(y0[1])) if stop_at_rest else 0.0
     if method != "auto":
-        return _Path((_solve(eq, (0.0, t_end), y0, method, rtol, atol, rest, False),))
-    first = _solve(eq, (0.0, t_end), y0, "DOP853", rtol, atol, rest, True)
+        return _Path((_solve(eq, (0.0, t_end), y0, method, rtol, atol, rest, False, budget),))
+    first = _solve(eq, (0.0, t_end), y0, "DOP853", rtol, atol, rest, True, budget)
     if first.ended_by != "stiff":
         return _Path((first,))
     t1 = float(first.sol.t[-1])
     y1 = np.asarray(first.sol.y[:, -1], float)
-    return _Path((first, _solve(eq, (t1, t_end), y1, "Radau", rtol, atol, rest, False)))
+    return _Path((first, _solve(eq, (t1, t_end), y1, "Radau", rtol, atol, rest, False, budget)))
 
 
 def _model_and_data(
@@ -293,6 +328,7 @@ def motion_in_time(
     estimate: bool = True,
     stop_at_rest: bool = True,
     drivers: Iterable[str] | None = None,
+    max_evaluations: int = MAX_EVALUATIONS,
 ) -> TimeMotion:
     """Integrate ``V q̈ + W q̇² = Q(q, q̇)`` from ``(q0, qdot0)`` over ``[0, t_end]``.
 
@@ -319,6 +355,8 @@ def motion_in_time(
     estimate : also run at a 100× tighter tolerance and report the difference.
     stop_at_rest : end the run where q̇ first returns to zero (a run-down).
     drivers : the driver joint (default: the file's).
+    max_evaluations : right-hand-side evaluations the run (with its error estimate)
+        may take; a run that needs more is refused with the time it reached.
 
     Raises
     ------
@@ -337,6 +375,8 @@ def motion_in_time(
         raise MechanismError(f"q0: must be finite, got {q0}")
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
         raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
+    max_evaluations = expect_int(max_evaluations, "max_evaluations", 1)
+    budget = _Budget(max_evaluations)
     out_times = np.linspace(0.0, float(t_end), int(frames))
     if times is not None:
         out_times = np.asarray(times, float).reshape(-1)
@@ -403,7 +443,7 @@ def motion_in_time(
     chosen = method
     if method == "auto" and stiffness > STIFF_RATIO:
         chosen = "Radau"
-    path = _integrate(eq, float(t_end), y0, chosen, rtol, atol_vec, stop_at_rest)
+    path = _integrate(eq, float(t_end), y0, chosen, rtol, atol_vec, stop_at_rest, budget)
     seg = path.segments
     solver = "+".join(x.method for x in seg)
     if len(seg) > 1:
@@ -443,7 +483,14 @@ def motion_in_time(
         fine = max(rtol / REFERENCE_FACTOR, TIGHTEST)
         try:
             ref = _integrate(
-                eq, float(t_end), y0, chosen, fine, atol_vec / REFERENCE_FACTOR, stop_at_rest
+                eq,
+                float(t_end),
+                y0,
+                chosen,
+                fine,
+                atol_vec / REFERENCE_FACTOR,
+                stop_at_rest,
+                budget,
             )
             inside = times <= min(t_stop, ref.t_stop)
             Yr = ref(times[inside])
