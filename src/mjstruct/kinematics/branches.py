@@ -30,6 +30,8 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -68,20 +70,28 @@ class BranchEvent:
 
     def message(self) -> str:
         """The event in words (one line)."""
+        if self.kind == "change point":
+            # whether the dyad's mode flips is bookkeeping: the motion itself continues
+            flips = (
+                "the triangle's assembly mode flips there"
+                if self.action == "switched"
+                else "the triangle keeps its assembly mode"
+            )
+            return (
+                f"change point at q = {self.q:.9g} (frame {self.frame}, step {self.step + 1}, "
+                f"joint {self.joint}): branches meet, |sin| = {self.sine:.3g}; the sweep "
+                f"continues smoothly on its branch ({flips})"
+            )
         what = {
             "change point": "branches meet",
             "near branch point": "closest approach of the two branches",
             "dead point": "limit of the feasible range",
             "singular frame": "the dyad is undefined here",
         }[self.kind]
-        # a switched mode at a change point keeps the motion smooth: the same branch
-        stays = (
-            "; the sweep continues on the branch it was on" if self.kind == "change point" else ""
-        )
         return (
             f"{self.kind} at q = {self.q:.9g} (frame {self.frame}, step {self.step + 1}, "
             f"joint {self.joint}): {what}, |sin| = {self.sine:.3g}; assembly mode "
-            f"{self.action}{stays}"
+            f"{self.action}"
         )
 
 
@@ -207,7 +217,9 @@ def track_branches(
             if not singular and (q[cand, 0] - qstar) * (q[after, 0] - q[cand, 0]) > 0:
                 start = cand
             legal = kind != "near branch point" and switchable and start >= 3 and start < F
-            if legal and _smoother_flipped(model, q, K, k, s.joint, start):
+            # at an undefined frame the fit must use the frames before it, not the gap
+            fit_end = cand if singular else start
+            if legal and _smoother_flipped(model, q, K, k, s.joint, start, fit_end):
                 K[k][start:] *= -1
                 action = "switched"
                 flipped = True
@@ -269,10 +281,21 @@ def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:
 
 
 def _smoother_flipped(
-    model: KinematicModel, q: FloatArray, K: FrameModes, k: int, joint: str, start: int
+    model: KinematicModel,
+    q: FloatArray,
+    K: FrameModes,
+    k: int,
+    joint: str,
+    start: int,
+    fit_end: int | None = None,
 ) -> bool:
-    """True when flipping step k's mode from frame ``start`` continues the motion smoothly."""
-    idx = np.array([start - 3, start - 2, start - 1, start])
+    """True when flipping step k's mode from frame ``start`` continues the motion smoothly.
+
+    The motion is extrapolated from the three frames before ``fit_end`` (default
+    ``start``; before an undefined frame, the frames before it).
+    """
+    end = start if fit_end is None else fit_end
+    idx = np.array([end - 3, end - 2, end - 1, start])
     sub = q[idx]
     same = {kk: v[idx] for kk, v in K.items()}
     flip = {kk: v[idx].copy() for kk, v in K.items()}
@@ -287,3 +310,81 @@ def _smoother_flipped(
     coef = np.polyfit(x[:3], np.c_[known.real, known.imag], 2)
     pred = np.polyval(coef[:, 0], x[3]) + 1j * np.polyval(coef[:, 1], x[3])
     return bool(abs(pts[1][3] - pred) < abs(pts[0][3] - pred))
+
+
+#: half-width of the two-sided limit at an undefined frame, relative to its two frame
+#: steps: the dyad's base direction there is good to ~1e-16/width, the extrapolated
+#: mean to ~width⁴
+LIMIT_WIDTH = 1e-3
+#: the two one-sided values (2·width apart in q, so they differ by about that times the
+#: rates) must agree to this, relative to the size, to be one configuration; another
+#: branch sits a finite distance away
+LIMIT_AGREE = 1e-2
+
+
+def fill_change_frames(
+    model: KinematicModel, q: FloatArray, events: Sequence[BranchEvent], ev: Evaluation
+) -> list[BranchEvent]:
+    """Positions at frames where a dyad is undefined but the motion passes through.
+
+    A frame exactly at a change point where the dyad's base vanishes (MS5's A on O2)
+    has no triangle, yet the configuration exists: the limit of the branch from both
+    sides.  Where the two one-sided limits (the modes of the frames before and after)
+    agree, ``ev``'s poses at that frame are set to their mean (positions only: the
+    derivatives stay undefined, the frame is a singular position) and the event
+    becomes a change point.  Plans with closure unknowns are left alone.
+    """
+    out = list(events)
+    F = q.shape[0]
+    todo = [
+        n
+        for n, e in enumerate(out)
+        if e.kind == "singular frame" and 1 <= e.frame < F - 1 and model.plan.unknowns == 0
+    ]
+    if not todo:
+        return out
+    # the motion's modes on every frame (deterministic: the same as the motion's)
+    K, _ = track_branches(model, q)
+    for n in todo:
+        e = out[n]
+        i = e.frame
+        d = LIMIT_WIDTH * (q[i + 1] - q[i - 1])
+        # at -2d, -d, +d, +2d: the means at d and 2d extrapolated (Richardson) to d = 0
+        qs = np.stack([q[i] - 2 * d, q[i] - d, q[i] + d, q[i] + 2 * d])
+        modes: Modes = {
+            kk: np.array([v[i - 1]] * 2 + [v[i + 1]] * 2, dtype=np.int8) for kk, v in K.items()
+        }
+        side = evaluate(model, qs, order=0, K=modes)
+
+        def lim(x: npt.NDArray[Any]) -> complex:
+            return complex((4 * (x[1] + x[2]) - (x[0] + x[3])) / 6)
+
+        limit: dict[str, tuple[complex, complex]] = {}
+        agree = True
+        for link, pose in side.poses.items():
+            A, r = pose.A[0], pose.r
+            if not (np.isfinite(A).all() and np.isfinite(r).all()):
+                agree = False
+                break
+            agree &= bool(abs(A[1] - A[2]) <= LIMIT_AGREE * model.geometry.scale)
+            agree &= bool(abs(r[1] - r[2]) <= LIMIT_AGREE)
+            m = lim(r)
+            limit[link] = (lim(A), m / abs(m))
+        if not agree or set(limit) != set(ev.poses):
+            continue
+        for link, (A0, r0) in limit.items():
+            pose = ev.poses[link]
+            # copies: the arrays may be shared between poses
+            newA, newr = pose.A[0].copy(), pose.r.copy()
+            newA[i], newr[i] = A0, r0
+            ev.poses[link] = dataclasses.replace(pose, A=[newA, *pose.A[1:]], r=newr)
+        for j, jet in list(ev.solved.items()):
+            if j in side.solved:
+                val = jet[0].copy()
+                val[i] = lim(side.solved[j][0])
+                ev.solved[j] = [val, *jet[1:]]
+        flipped = K[e.step][i - 1] != K[e.step][i + 1]
+        out[n] = dataclasses.replace(
+            e, kind="change point", action="switched" if flipped else "kept"
+        )
+    return out

@@ -27,6 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
+from mjstruct.kinematics.branches import fill_change_frames
 from mjstruct.kinematics.checks import run_checks
 from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.evaluate import Evaluation
@@ -105,10 +106,36 @@ def kinematic_analysis(
     _check_speed(km, speed)
     result, motion = _analyse(km, qa, speed, tol)
     result.warnings = _warnings(result, motion)
+    if q is None:
+        result.warnings += _open_cycle(result, km)
     if checks:
         with np.errstate(all="ignore"):
             run_checks(result, motion)
     return result
+
+
+def _open_cycle(r: KinematicsResult, km: KinematicModel) -> list[str]:
+    """A one-turn sweep whose end does not lead back to its start (MS4 changes circuit
+    at its change point: its period is two turns)."""
+    kinds = [km.mechanism.joint(d).kind for d in km.drivers]
+    F = r.q.shape[0]
+    if F < 8 or any(k != "R" for k in kinds) or not r.placed[[0, F - 2, F - 1]].all():
+        return []
+    xs = np.array(
+        [[v["x"][i] + 1j * v["y"][i] for v in r.joints.values()] for i in (0, F - 2, F - 1)]
+    )
+    # the configuration one step past the last frame (q_ref + one turn), extrapolated;
+    # its error is far below one step's motion, another circuit is a finite distance away
+    pred = 2 * xs[2] - xs[1]
+    step = np.abs(xs[2] - xs[1]).max()
+    gap = float(np.abs(pred - xs[0]).max())
+    if not np.isfinite(gap) or gap <= max(10 * step, 1e-9 * km.scale):
+        return []
+    return [
+        f"the sweep does not return to its start after one turn (the end differs from the "
+        f"start by up to {gap:.3g}): the motion closes only after more turns (a change "
+        "point crossed onto the other circuit closes it after two)"
+    ]
 
 
 #: the largest |stroke| of a prismatic sweep: its square (in the triangles) and its
@@ -133,6 +160,12 @@ def _analyse(
 ) -> tuple[KinematicsResult, Motion]:
     """The motion on ``qa`` and its tables (no warnings, no checks)."""
     motion = km.motion(qa, order=2, tol=tol)
+    # a frame exactly at a change point where a dyad is undefined (MS5: A on O2) still
+    # has its configuration: the branch's limit from both sides
+    with np.errstate(all="ignore"):
+        events = fill_change_frames(km, motion.q, motion.events, motion.evaluation)
+    if events != list(motion.events):
+        motion = dataclasses.replace(motion, events=tuple(events))
     # frames near a singular position may carry infinite analogs: they are not valid
     # (reported), and their arithmetic must not warn
     with np.errstate(all="ignore"):
