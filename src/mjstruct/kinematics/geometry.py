@@ -39,6 +39,37 @@ from mjstruct.structure.drivers import validate_drivers
 __all__ = ["COINCIDE", "Geometry", "read_geometry"]
 
 
+def diameter(points: list[complex]) -> float:
+    """The largest distance between two of ``points`` (0 for fewer than two).
+
+    The farthest pair lies on the convex hull, so only the hull's vertices (Andrew's
+    monotone chain, O(n log n)) are compared pairwise: the same value as all pairs,
+    without their n² cost on mechanisms of a thousand links.
+
+    >>> diameter([0j, 1 + 0j, 0.5 + 0.2j, 1j])
+    1.4142135623730951
+    """
+    pts = sorted(set(points), key=lambda z: (z.real, z.imag))
+    if len(pts) < 3:
+        return max((abs(a - b) for a in pts for b in pts), default=0.0)
+
+    def cross(o: complex, a: complex, b: complex) -> float:
+        return (a - o).real * (b - o).imag - (a - o).imag * (b - o).real
+
+    lower: list[complex] = []
+    upper: list[complex] = []
+    for z in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], z) <= 0:
+            lower.pop()
+        lower.append(z)
+    for z in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], z) <= 0:
+            upper.pop()
+        upper.append(z)
+    hull = lower[:-1] + upper[:-1]
+    return max(abs(a - b) for a in hull for b in hull)
+
+
 @dataclass(frozen=True)
 class Geometry:
     """Reference configuration of a mechanism (complex coordinates).
@@ -95,7 +126,7 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
                 )
             a = complex(*j.axis)
             axes[j.id] = a / abs(a)
-    scale = max((abs(a - b) for a in centres.values() for b in centres.values()), default=0.0)
+    scale = diameter(list(centres.values()))
     if scale <= 0.0:
         raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
     tol = COINCIDE * scale
