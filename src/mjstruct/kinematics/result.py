@@ -210,16 +210,21 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     joints = {j.id: pack(ev.centre(j.id)) for j in m.joints}
     points = {pid: pack(ev.poses[link].point(z)) for pid, (link, z) in geom.points.items()}
     links: dict[str, dict[str, FloatArray]] = {}
+    moving = {x: i for i, x in enumerate(x for x in m.links if x != m.frame)}
+    # the angles of every moving link at once (one np.unwrap over the rows: the same
+    # values as row by row); a row with gaps is unwrapped over its finite frames
+    angles = np.angle(np.stack([ev.poses[x].r for x in moving])) if moving else np.zeros((0, 0))
+    whole: npt.NDArray[np.bool_] = np.isfinite(angles).all(axis=1)
+    if whole.any():
+        angles[whole] = np.unwrap(angles[whole], axis=1)
     for link in m.links:
         p = ev.poses[link]
-        if link == m.frame:
+        if link not in moving:
             theta = np.zeros(q.shape[0])
         else:
-            theta = np.angle(p.r)
+            theta = angles[moving[link]]
             ok = np.isfinite(theta)
-            if ok.all():
-                theta = np.unwrap(theta)
-            elif ok.any():
+            if not whole[moving[link]] and ok.any():
                 theta[ok] = np.unwrap(theta[ok])
         links[link] = {
             "angle": theta + geom.char_angle[link],

@@ -297,6 +297,10 @@ def _tail_motion(motion: Motion, n: int, idx: npt.NDArray[np.int_]) -> Motion:
 
 def _check_overflow(r: KinematicsResult) -> None:
     """Refuse a speed whose velocities or accelerations overflow where the analogs do not."""
+    if abs(r.speed) <= 1.0:
+        # the rates are the analogs times W and W² (or the analogs themselves): no
+        # larger in size, so a finite analog has a finite rate
+        return
     v = r.valid
     for table in (r.joints, r.points):
         for values in table.values():
