@@ -214,7 +214,7 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     # the angles of every moving link at once (one np.unwrap over the rows: the same
     # values as row by row); a row with gaps is unwrapped over its finite frames
     angles = np.angle(np.stack([ev.poses[x].r for x in moving])) if moving else np.zeros((0, 0))
-    whole: npt.NDArray[np.bool_] = np.isfinite(angles).all(axis=1)
+    whole = np.asarray(np.isfinite(angles).all(axis=1), dtype=bool)
     if whole.any():
         angles[whole] = np.unwrap(angles[whole], axis=1)
     for link in m.links:
