@@ -146,8 +146,17 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
             tables = list(r.joints.values()) + list(r.points.values())
             x = np.array([d[c] for c in ("x", "y") for d in tables])
             sx = np.array([d[c] for c in ("sx", "sy") for d in tables])[:, 2:-2]
-            fd = (x[:, :-4] - 8 * x[:, 1:-3] + 8 * x[:, 3:-1] - x[:, 4:]) / (12 * h)
-            dev = np.where(ok, np.abs(fd - sx), 0.0).max(axis=0)
+            # (x0 - 8 x1 + 8 x3 - x4) / 12h in place: the same operations in the same
+            # order (the same bits), without a temporary per operation
+            fd = np.multiply(x[:, 1:-3], 8)
+            np.subtract(x[:, :-4], fd, out=fd)
+            fd += 8 * x[:, 3:-1]
+            fd -= x[:, 4:]
+            fd /= 12 * h
+            fd -= sx
+            np.abs(fd, out=fd)
+            # frames not checked are zero after the row maximum (ok is per frame)
+            dev = np.where(ok, fd.max(axis=0), 0.0)
             k = int(dev.argmax())
             err, at = float(dev[k]), float(q[k + 2])
             big = float(np.abs(sx).max(axis=0)[ok].max())
