@@ -167,6 +167,33 @@ class KinematicsResult:
         return names, data
 
 
+def unwrap_rows(p: FloatArray) -> FloatArray:
+    """``np.unwrap(p, axis=1)`` bit for bit, the modulo taken only at the jumps.
+
+    The same arithmetic as numpy's (period 2π, jumps of at least π corrected, the
+    ambiguous boundary kept positive); a sweep's angles jump at a few frames, so the
+    modulo over every difference, most of numpy's time, is left out.
+
+    >>> p = np.array([[0.0, 3.0, -3.0, -0.5, 3.1]])
+    >>> bool((unwrap_rows(p) == np.unwrap(p, axis=1)).all())
+    True
+    """
+    period = 2 * np.pi
+    high = period / 2
+    low = -high
+    dd = np.diff(p, axis=1)
+    big = np.abs(dd) >= high
+    ph = np.zeros_like(dd)
+    if big.any():
+        d = dd[big]
+        dmod = np.mod(d - low, period) + low
+        np.copyto(dmod, high, where=(dmod == low) & (d > 0))
+        ph[big] = dmod - d
+    up = p.copy()
+    up[:, 1:] = p[:, 1:] + ph.cumsum(axis=1)
+    return up
+
+
 #: the table's position columns (given on every assembled frame, singular ones too)
 _POSITIONS = frozenset({"x", "y", "angle"})
 
@@ -211,12 +238,12 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     points = {pid: pack(ev.poses[link].point(z)) for pid, (link, z) in geom.points.items()}
     links: dict[str, dict[str, FloatArray]] = {}
     moving = {x: i for i, x in enumerate(x for x in m.links if x != m.frame)}
-    # the angles of every moving link at once (one np.unwrap over the rows: the same
+    # the angles of every moving link at once (one unwrap over the rows: the same
     # values as row by row); a row with gaps is unwrapped over its finite frames
     angles = np.angle(np.stack([ev.poses[x].r for x in moving])) if moving else np.zeros((0, 0))
     whole = np.asarray(np.isfinite(angles).all(axis=1), dtype=bool)
     if whole.any():
-        angles[whole] = np.unwrap(angles[whole], axis=1)
+        angles[whole] = unwrap_rows(angles[whole])
     for link in m.links:
         p = ev.poses[link]
         if link not in moving:
@@ -225,7 +252,7 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
             theta = angles[moving[link]]
             ok = np.isfinite(theta)
             if not whole[moving[link]] and ok.any():
-                theta[ok] = np.unwrap(theta[ok])
+                theta[ok] = unwrap_rows(theta[ok][None, :])[0]
         links[link] = {
             "angle": theta + geom.char_angle[link],
             "omega": scaled(p.w[0], W),
