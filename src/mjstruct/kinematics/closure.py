@@ -138,8 +138,10 @@ def closure_jets(
     if n == 1:
         qs, ts = q, t
     else:
-        qs = np.broadcast_to(q, (n, *q.shape)).reshape(n * F, q.shape[1])
-        ts = np.broadcast_to(t, (n, F, k)).reshape(n * F, k)
+        # n copies stacked along the frames (concatenate: less call overhead than
+        # broadcast_to + reshape on the few frames of a continuation station)
+        qs = np.concatenate([q] * n)
+        ts = np.concatenate([t] * n)
     ev = evaluate(
         model,
         qs,
@@ -152,9 +154,11 @@ def closure_jets(
     )
     R = ev.residual_matrix(0)[:F]
     R1 = ev.residual_matrix(1).reshape(n, F, -1)
+    # (seed, frame, equation) -> (frame, equation, seed): np.moveaxis(·, 0, -1) as a
+    # plain transpose
     if rates is None:
-        return R, np.moveaxis(R1, 0, -1), None
-    return R, np.moveaxis(R1[1:] - R1[0], 0, -1), R1[0]
+        return R, R1.transpose(1, 2, 0), None
+    return R, (R1[1:] - R1[0]).transpose(1, 2, 0), R1[0]
 
 
 def closure_jacobian(

@@ -71,6 +71,9 @@ class Evaluation:
 
     def residual_matrix(self, k: int = 0) -> FloatArray:
         """Derivative ``k`` of the closure equations, shape (frames, equations)."""
+        if len(self.residuals) == 1:  # one equation: a column, without np.stack's checks
+            out: FloatArray = self.residuals[0][k][:, None].copy()
+            return out
         return np.stack([r[k] for r in self.residuals], axis=-1)
 
 
