@@ -258,25 +258,38 @@ def _newton(
         finite = np.isfinite(R).all(axis=1)
         bad = (~finite | (rmax > 2.0 * rbase[idx] + 1e-300)) & (halved[idx] < 8)
         bad &= evals[idx] > 0
-        b = idx[bad]
-        alpha[b] *= 0.5
-        halved[b] += 1
-        t[b] = base[b] + alpha[b, None] * step[b]
-        good = ~bad
-        ia, R, J, e = idx[good], R[good], J[good], rmax[good] / scale
+        # most rounds halve no step and end no frame: the masks are then all of idx,
+        # and their selections are skipped (views instead of copies; none is written)
+        if bad.any():
+            b = idx[bad]
+            alpha[b] *= 0.5
+            halved[b] += 1
+            t[b] = base[b] + alpha[b, None] * step[b]
+            good = ~bad
+            ia, R, J, e = idx[good], R[good], J[good], rmax[good] / scale
+            rgood, Rdg = rmax[good], None if Rd is None else Rd[good]
+        else:
+            ia, e, rgood, Rdg = idx, rmax / scale, rmax, Rd
         stalled = e >= 0.5 * err[ia]
         err[ia] = e
         base[ia] = t[ia]
-        rbase[ia] = rmax[good]
+        rbase[ia] = rgood
         evals[ia] += 1
         if last is None:
             last = np.full((F, *(J.shape[1:] if rates is None else (J.shape[2],))), np.nan)
-        last[ia] = J if rates is None or Rd is None else -_solve(J, Rd[good])
+        last[ia] = J if rates is None or Rdg is None else -_solve(J, Rdg)
         done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
-        ok[ia[done]] = True
         spent = ~done & (evals[ia] >= maxiter)
-        active[ia[done | spent]] = False
-        go = ~done & ~spent
+        stop = done | spent
+        if not stop.any():
+            ig = ia
+            step[ig] = _newton_step(J, R)
+            alpha[ig], halved[ig] = 1.0, 0
+            t[ig] = base[ig] + step[ig]
+            continue
+        ok[ia[done]] = True
+        active[ia[stop]] = False
+        go = ~stop
         ig = ia[go]
         if ig.size:
             step[ig] = _newton_step(J[go], R[go])
