@@ -391,6 +391,22 @@ def close(
     def q_at(sv: float) -> FloatArray:
         return np.array([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])])
 
+    ends = arc[moving + 1]
+
+    def qs_at(sv: FloatArray) -> FloatArray:
+        # q_at at every station of a block (np.interp is elementwise: the same values)
+        return np.stack([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])], axis=1)
+
+    def directions(sv: FloatArray) -> FloatArray:
+        # direction at every station of a block, vectorised (the same values)
+        if moving.size == 0:
+            return np.zeros((sv.size, path.shape[1]))
+        pos = np.searchsorted(ends, sv, side="left")
+        j = moving[np.minimum(pos, moving.size - 1)]
+        d: FloatArray = path[j + 1] - path[j]
+        out: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
+        return out
+
     def direction(sv: float) -> FloatArray:
         if moving.size == 0:
             return np.zeros(path.shape[1])
@@ -426,14 +442,14 @@ def close(
             # agrees with the trapezoid of the tangent, exactly as one at a time
             sv = np.minimum(s_last + step * np.arange(1, block + 1), total)
             sv = sv[: int(np.searchsorted(sv, total)) + 1]
-            dirs = np.array([direction(x) for x in sv])
+            dirs = directions(sv)
             if (dirs == dirs[0]).all():
                 dl = (sv - s_last)[:, None]
                 curv = (DD[-1] - DD[-2]) / (S[-1] - S[-2]) if len(S) > 1 else 0.0 * T_last
-                Kb = _subset_modes(K, np.array([frame_at(x) for x in sv]))
+                Kb = None if K is None else _subset_modes(K, np.array([frame_at(x) for x in sv]))
                 tb, _, _, okb, Db = _newton(
                     model,
-                    np.array([q_at(x) for x in sv]),
+                    qs_at(sv),
                     T_last + dl * DD[-1] + 0.5 * dl**2 * curv,
                     Kb,
                     tight,
