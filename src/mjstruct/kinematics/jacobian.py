@@ -399,7 +399,12 @@ def _factored(
         # elementwise arithmetic per frame: the same matrices, less call overhead)
         Jc, Dc = constraint_jacobian(m, geom, poses_at(poses, cal), drivers)
         JD = np.concatenate([Jc, Dc], axis=1)
-        dets = [_slogdet(JD[i]) for i in range(cal.size)]
+        if JD.shape[1] <= SPARSE_ROWS:
+            # one stacked LAPACK call: the same factorisation per matrix as _slogdet's
+            sc, lc = np.linalg.slogdet(JD)
+            dets = list(zip(sc.tolist(), lc.tolist(), strict=True))
+        else:
+            dets = [_slogdet(JD[i]) for i in range(cal.size)]
         kept = [Jc]
     for i in range(0 if dets else cal.size):
         Ji, Di = constraint_jacobian(m, geom, poses_at(poses, cal[i : i + 1]), drivers)
