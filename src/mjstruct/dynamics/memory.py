@@ -19,8 +19,7 @@ True
 
 from __future__ import annotations
 
-from mjstruct.errors import MechanismError
-from mjstruct.kinematics.memory import MEMORY_ENV, memory_limit, sweep_bytes
+from mjstruct.kinematics.memory import memory_limit, refuse_frames, sweep_bytes
 from mjstruct.kinematics.model import KinematicModel
 
 __all__ = ["analysis_bytes", "check_analysis_memory"]
@@ -51,9 +50,5 @@ def check_analysis_memory(model: KinematicModel, frames: int, limit: int | None 
     cap = memory_limit(limit)
     need = analysis_bytes(model, frames)
     if need > cap:
-        fits = cap // max(analysis_bytes(model, 1), 1)
-        raise MechanismError(
-            f"frames: {frames} frames need about {need:.2g} bytes, over the limit of "
-            f"{cap:.3g} bytes (max_memory, or {MEMORY_ENV}); at most {fits} frames fit"
-        )
+        refuse_frames(frames, need, cap, cap // max(analysis_bytes(model, 1), 1))
     return need

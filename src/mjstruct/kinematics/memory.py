@@ -43,7 +43,7 @@ mjstruct.errors.MechanismError: frames: 1000000000 frames need about 9e+11 bytes
 from __future__ import annotations
 
 import os
-from typing import Literal
+from typing import Literal, NoReturn
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.jacobian import MEMORY_BUDGET
@@ -175,9 +175,13 @@ def check_sweep_memory(
                 f"frames: the streamed table needs about {need:.2g} bytes whatever the frame "
                 f"count, over the limit of {cap:.3g} bytes (max_memory, or {MEMORY_ENV})"
             )
-        fits = frames_that_fit(model, cap, output, checks)
-        raise MechanismError(
-            f"frames: {frames} frames need about {need:.2g} bytes, over the limit of "
-            f"{cap:.3g} bytes (max_memory, or {MEMORY_ENV}); at most {fits} frames fit"
-        )
+        refuse_frames(frames, need, cap, frames_that_fit(model, cap, output, checks))
     return need
+
+
+def refuse_frames(frames: int, need: int, cap: int, fits: int) -> NoReturn:
+    """The one refusal of a run over the memory limit: the estimate, the limit, what fits."""
+    raise MechanismError(
+        f"frames: {frames} frames need about {need:.2g} bytes, over the limit of "
+        f"{cap:.3g} bytes (max_memory, or {MEMORY_ENV}); at most {fits} frames fit"
+    )
