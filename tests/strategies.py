@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import random
+from collections.abc import Iterator
+from typing import Any
 
 from hypothesis import strategies as st
 
@@ -51,3 +53,14 @@ def relabelled(m: Mechanism, seed: int) -> Mechanism:
     links_order = [ren[x] for x in names]
     rng.shuffle(links_order)
     return Mechanism(links=tuple(links_order), joints=tuple(joints))
+
+
+def field_paths(d: Any, pre: tuple[Any, ...] = ()) -> Iterator[tuple[Any, ...]]:
+    """Every path (keys and list indices) into a parsed file, the root ``()`` included."""
+    yield pre
+    if isinstance(d, dict):
+        for k, v in d.items():
+            yield from field_paths(v, (*pre, k))
+    elif isinstance(d, list):
+        for i, v in enumerate(d):
+            yield from field_paths(v, (*pre, i))

@@ -15,7 +15,6 @@ import json
 import os
 import signal
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +24,7 @@ from hypothesis import strategies as st
 
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
+from strategies import field_paths
 
 pytestmark = pytest.mark.skipif(
     not hasattr(signal, "SIGALRM"), reason="the per-case time limit needs SIGALRM"
@@ -41,16 +41,6 @@ COMMANDS = {
     "dynamics-speed": ["--frames", "6", "--speed", "1", "--json"],
     "dynamics-free": ["--frames", "6", "--qdot0", "1", "--json"],
 }
-
-
-def _paths(d: Any, pre: tuple[Any, ...] = ()) -> Iterator[tuple[Any, ...]]:
-    yield pre
-    if isinstance(d, dict):
-        for k, v in d.items():
-            yield from _paths(v, (*pre, k))
-    elif isinstance(d, list):
-        for i, v in enumerate(d):
-            yield from _paths(v, (*pre, i))
 
 
 # pieces of load expressions: valid, degenerate (zero division, overflow, complex,
@@ -75,7 +65,7 @@ VALUES = st.recursive(
     max_leaves=6,
 )
 DYNAMICS_KEYS = ("inertia", "gravity", "parameters", "loads", "energy_change")
-ALL_PATHS = [p for p in _paths(BASE) if p]
+ALL_PATHS = [p for p in field_paths(BASE) if p]
 DYNAMICS_PATHS = [p for p in ALL_PATHS if p[0] in DYNAMICS_KEYS]
 
 

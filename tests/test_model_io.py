@@ -14,6 +14,7 @@ from mjstruct.io import from_link_graph, mechanism_from_dict, mechanism_to_dict,
 from mjstruct.mechanism import JOINT, LINK
 from mjstruct.structure.incidence import incidence_matrix
 from mjstruct.structure.isomorphism import canonical_code
+from strategies import field_paths
 
 
 def test_round_trip_keeps_everything(examples):
@@ -227,16 +228,6 @@ def test_point_ids_are_unique_and_distinct_from_joint_ids():
         mechanism_from_dict(clash)
 
 
-def _paths(d, pre=()):
-    yield pre
-    if isinstance(d, dict):
-        for k, v in d.items():
-            yield from _paths(v, (*pre, k))
-    elif isinstance(d, list):
-        for i, v in enumerate(d):
-            yield from _paths(v, (*pre, i))
-
-
 FUZZ_BASE = dict(FOUR_BAR, name="four-bar", points=[{"id": "P", "link": "2", "at": [1, 2]}])
 JSON_VALUES = st.recursive(
     st.none()
@@ -253,7 +244,7 @@ JSON_VALUES = st.recursive(
 
 @settings(max_examples=120, deadline=None)
 @given(
-    st.sampled_from(list(_paths(FUZZ_BASE))),
+    st.sampled_from(list(field_paths(FUZZ_BASE))),
     JSON_VALUES,
     st.sampled_from(["analyze", "assur", "iso"]),
 )
