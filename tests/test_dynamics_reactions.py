@@ -27,6 +27,15 @@ from mjstruct.kinematics.model import KinematicModel
 EXAMPLES = Path(__file__).resolve().parents[1] / "catalogs" / "examples"
 
 
+#: the shipped examples with dynamics data, one of each kind (slider, MJ, class IV)
+DYNAMICS_EXAMPLES = [
+    "slider-crank-seed000-dynamics",
+    "zhivago-dynamics",
+    "radial-engine-5-dynamics",
+    "class-iv-seed003-dynamics",
+]
+
+
 def load(name: str):
     return read_mechanism(EXAMPLES / f"{name}.json")
 
@@ -193,15 +202,7 @@ def test_reactions_equal_lagrange_multipliers(name):
     assert r.check < 1e-12
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "slider-crank-seed000-dynamics",
-        "zhivago-dynamics",
-        "radial-engine-5-dynamics",
-        "class-iv-seed003-dynamics",
-    ],
-)
+@pytest.mark.parametrize("name", DYNAMICS_EXAMPLES)
 def test_energy_balance_at_constant_speed(name):
     m = load(name)
     W = 2.5
@@ -347,15 +348,7 @@ def test_W_is_half_the_derivative_of_V_on_the_zhivago_mechanism():
     assert np.abs(dV / 2 - r.W).max() < 1e-6 * np.abs(r.W).max()
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "slider-crank-seed000-dynamics",
-        "zhivago-dynamics",
-        "radial-engine-5-dynamics",
-        "class-iv-seed003-dynamics",
-    ],
-)
+@pytest.mark.parametrize("name", DYNAMICS_EXAMPLES)
 def test_condition_estimate_is_a_close_lower_bound(name):
     from mjstruct.dynamics.reactions import solve_stack, system_matrix, unknowns
 
@@ -420,15 +413,7 @@ def test_frames_that_do_not_assemble_give_no_numpy_warning(recwarn):
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "slider-crank-seed000-dynamics",
-        "zhivago-dynamics",
-        "radial-engine-5-dynamics",
-        "class-iv-seed003-dynamics",
-    ],
-)
+@pytest.mark.parametrize("name", DYNAMICS_EXAMPLES)
 def test_reactions_equal_lagrange_multipliers_with_acceleration(name):
     # a prescribed q(t) with q̈ ≠ 0 (the inertia loads carry σ q̈ as well as κ q̇²)
     m = load(name)
