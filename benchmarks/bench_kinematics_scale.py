@@ -15,7 +15,6 @@ the number of links on log-log axes.
 from __future__ import annotations
 
 import argparse
-import cmath
 import json
 import math
 import resource
@@ -26,29 +25,12 @@ import time
 SIZES = (4, 10, 18, 34, 66, 130, 258, 514, 1000)
 
 
-def shared_crank(k: int):  # type: ignore[no-untyped-def]
-    """k Grashof crank-rockers on one crank O1-A; rocker pivots on a unit circle."""
-    from mjstruct.io import mechanism_from_dict
-
-    a0 = 0.25 * cmath.exp(0.3j)
-    joints = [
-        {"id": "O1", "links": ["0", "1"], "at": [0.0, 0.0]},
-        {"id": "A", "links": ["1", *[f"c{i}" for i in range(k)]], "at": [a0.real, a0.imag]},
-    ]
-    for i in range(k):
-        phi = 2 * math.pi * i / k
-        o2 = cmath.exp(1j * phi)
-        b = o2 + 0.8j * cmath.exp(1j * phi)
-        joints.append({"id": f"B{i}", "links": [f"c{i}", f"r{i}"], "at": [b.real, b.imag]})
-        joints.append({"id": f"O2_{i}", "links": [f"r{i}", "0"], "at": [o2.real, o2.imag]})
-    return mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
-
-
 def _one(n: int, frames: int, repeat: int) -> dict[str, float]:
     """Measure one size (run in a child process)."""
     from mjstruct.kinematics.memory import sweep_bytes
     from mjstruct.kinematics.model import KinematicModel
     from mjstruct.kinematics.solver import kinematic_analysis
+    from mjstruct.testing import shared_crank
 
     m = shared_crank((n - 2) // 2)
 

@@ -13,28 +13,13 @@ import pytest
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.cli.output import dumps
-from mjstruct.io import mechanism_from_dict, read_mechanism
+from mjstruct.io import read_mechanism
 from mjstruct.kinematics import memory
 from mjstruct.kinematics.memory import sweep_bytes
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.report import write_csv, write_csv_chunks
 from mjstruct.kinematics.solver import kinematic_analysis, sweep_chunks
-
-
-def shared_crank(k: int) -> KinematicModel:
-    """k four-bars on one crank (the scale benchmark's family), 2 + 2k links."""
-    a0 = 0.25 * np.exp(0.3j)
-    joints = [
-        {"id": "O1", "links": ["0", "1"], "at": [0.0, 0.0]},
-        {"id": "A", "links": ["1", *[f"c{i}" for i in range(k)]], "at": [a0.real, a0.imag]},
-    ]
-    for i in range(k):
-        o2 = np.exp(2j * np.pi * i / k)
-        b = o2 + 0.8j * o2
-        joints.append({"id": f"B{i}", "links": [f"c{i}", f"r{i}"], "at": [b.real, b.imag]})
-        joints.append({"id": f"O2_{i}", "links": [f"r{i}", "0"], "at": [o2.real, o2.imag]})
-    m = mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
-    return KinematicModel.build(m)
+from mjstruct.testing import shared_crank
 
 
 def _peak(fn) -> int:  # type: ignore[no-untyped-def]
@@ -49,7 +34,7 @@ def _peak(fn) -> int:  # type: ignore[no-untyped-def]
 @pytest.mark.parametrize("case", ["crank34", "class-iv-seed003"])
 def test_the_estimate_of_each_output_path_is_within_half_again_of_the_measured_peak(case):
     if case == "crank34":
-        model = shared_crank(16)
+        model = KinematicModel.build(shared_crank(16))
     else:
         model = KinematicModel.build(read_mechanism(example_path(case)))
     F = 1500
@@ -69,7 +54,7 @@ def test_the_csv_estimate_does_not_grow_with_the_frames_and_1000_links_fit_by_de
     assert sweep_bytes(model, 10**9, "csv") == sweep_bytes(model, 10**5, "csv")
     assert sweep_bytes(model, 10**9, "csv") < 2**25
     # the issue's case: 1000 links, 3600 frames, checks on (measured peak 1.0 GB)
-    big = shared_crank(499)
+    big = KinematicModel.build(shared_crank(499))
     assert len(big.mechanism.links) == 1000
     assert 0.9e9 < sweep_bytes(big, 3600) < 1.6e9 < memory.DEFAULT_MAX_MEMORY
 

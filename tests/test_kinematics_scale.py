@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import cmath
 import json
-import math
 
 import numpy as np
 import pytest
@@ -21,22 +19,7 @@ from mjstruct.kinematics.jacobian import check_jacobian
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.solver import kinematic_analysis
 from mjstruct.structure.assur import assur_groups
-from mjstruct.testing import random_mechanism
-
-
-def shared_crank(k: int):
-    """k Grashof crank-rockers on one crank O1-A (A: one multiple joint of k + 1 links)."""
-    a0 = 0.25 * cmath.exp(0.3j)
-    joints = [
-        {"id": "O1", "links": ["0", "1"], "at": [0.0, 0.0]},
-        {"id": "A", "links": ["1", *[f"c{i}" for i in range(k)]], "at": [a0.real, a0.imag]},
-    ]
-    for i in range(k):
-        o2 = cmath.exp(2j * math.pi * i / k)
-        b = o2 + 0.8j * o2
-        joints.append({"id": f"B{i}", "links": [f"c{i}", f"r{i}"], "at": [b.real, b.imag]})
-        joints.append({"id": f"O2_{i}", "links": [f"r{i}", "0"], "at": [o2.real, o2.imag]})
-    return mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
+from mjstruct.testing import random_mechanism, shared_crank
 
 
 def with_random_geometry(m, seed: int):

@@ -2,7 +2,8 @@
 
 This module owns :func:`random_mechanism`: a one-DOF mechanism grown from a crank by
 dyads, triads and class-IV groups, so that its Assur decomposition is known by
-construction.  It is not part of the pinned public API.
+construction; and :func:`shared_crank`, the size-scaling family of the kinematics
+benchmarks and tests.  It is not part of the pinned public API.
 
 >>> m = random_mechanism(3, seed=2)
 >>> m.frame, m.drivers
@@ -11,6 +12,8 @@ construction.  It is not part of the pinned public API.
 
 from __future__ import annotations
 
+import cmath
+import math
 import random
 from dataclasses import dataclass, field
 
@@ -94,3 +97,25 @@ def random_mechanism(groups: int, seed: int = 0, mj: float = 0.3) -> Mechanism:
         drivers=["J0"],
         name=f"random-{groups}-{seed}",
     )
+
+
+def shared_crank(k: int) -> Mechanism:
+    """k Grashof crank-rockers on one crank O1-A: 2 + 2k links, A one multiple joint of
+    k + 1 links, the rocker pivots on the unit circle.
+
+    >>> len(shared_crank(3).links)
+    8
+    """
+    from mjstruct.io import mechanism_from_dict
+
+    a0 = 0.25 * cmath.exp(0.3j)
+    joints: list[dict[str, object]] = [
+        {"id": "O1", "links": ["0", "1"], "at": [0.0, 0.0]},
+        {"id": "A", "links": ["1", *[f"c{i}" for i in range(k)]], "at": [a0.real, a0.imag]},
+    ]
+    for i in range(k):
+        o2 = cmath.exp(2j * math.pi * i / k)
+        b = o2 + 0.8j * o2
+        joints.append({"id": f"B{i}", "links": [f"c{i}", f"r{i}"], "at": [b.real, b.imag]})
+        joints.append({"id": f"O2_{i}", "links": [f"r{i}", "0"], "at": [o2.real, o2.imag]})
+    return mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
