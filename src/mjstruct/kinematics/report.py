@@ -22,7 +22,7 @@ import csv
 import io
 import os
 import tempfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO
@@ -76,15 +76,17 @@ def render(r: KinematicsResult) -> str:
             f"|det| with drivers fixed in [{_g(j['min_abs_det'])}, {_g(j['max_abs_det'])}], "
             f"near-singular frames {j['near_singular_frames'] or 'none'}"
         )
-    placed, valid = int(r.placed.sum()), int(r.valid.sum())
-    singular = f" ({placed - valid} singular: positions only)" if placed != valid else ""
-    out.append(f"frames assembled: {placed}/{r.valid.size}{singular}")
-    if r.warnings:
-        out.append("warnings:")
-        out += [f"  {w}" for w in r.warnings]
-    else:
-        out.append("warnings: none")
+    out += _closing_lines(int(r.placed.sum()), int(r.valid.sum()), r.valid.size, r.warnings)
     return "\n".join(out)
+
+
+def _closing_lines(placed: int, valid: int, frames: int, warnings: Sequence[str]) -> list[str]:
+    """The report's last lines: frames assembled (singular ones apart), the warnings."""
+    singular = f" ({placed - valid} singular: positions only)" if placed != valid else ""
+    lines = [f"frames assembled: {placed}/{frames}{singular}"]
+    if warnings:
+        return [*lines, "warnings:", *(f"  {w}" for w in warnings)]
+    return [*lines, "warnings: none"]
 
 
 def _g(x: float | None) -> str:
@@ -223,13 +225,5 @@ def render_stream(s: StreamSummary, path: str | Path) -> str:
         ns = s.near_singular
         shown = ", ".join(str(i) for i in ns[:10]) + (", ..." if len(ns) > 10 else "")
         out.append(f"check Jacobian: near-singular frames {shown or 'none'}")
-    singular = (
-        f" ({s.assembled - s.valid} singular: positions only)" if s.assembled != s.valid else ""
-    )
-    out.append(f"frames assembled: {s.assembled}/{s.frames}{singular}")
-    if s.warnings:
-        out.append("warnings:")
-        out += [f"  {w}" for w in s.warnings]
-    else:
-        out.append("warnings: none")
+    out += _closing_lines(s.assembled, s.valid, s.frames, s.warnings)
     return "\n".join(out)
