@@ -462,3 +462,23 @@ def test_closure_jump_detector():
     assert _jumps(q, np.zeros(1), t, t1, np.array([0.5]), ok, np.ones(1)) == ()
     t[6:] += 1.0  # another branch from frame 6 on
     assert _jumps(q, np.zeros(1), t, t1, np.array([0.5]), ok, np.ones(1)) == (6,)
+
+
+def test_the_value_checks_run_when_read_and_equal_the_direct_ones():
+    from mjstruct.kinematics.checks import value_checks
+
+    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=360)
+    # not computed before the checks are read; the Jacobian's (which word warnings) are
+    assert r._on_demand is not None
+    assert r.jacobian is not None
+    checks = r.checks
+    assert r._on_demand is None
+    assert list(checks) == ["link_lengths", "analogs_vs_differences", "jacobian"]
+    assert {k: checks[k] for k in ("link_lengths", "analogs_vs_differences")} == value_checks(r)
+    assert checks["link_lengths"]["max_error"] < 1e-12
+    assert checks["analogs_vs_differences"]["max_error"] < 1e-6
+    # a deliberately wrong table is caught by the deferred check
+    r2 = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=360)
+    r2.joints["B"]["x"][100] += 1e-3
+    assert r2.checks["link_lengths"]["max_error"] > 9e-4
+    assert r2.checks["analogs_vs_differences"]["max_error"] > 1e-2

@@ -39,7 +39,8 @@ def test_the_estimate_of_each_output_path_is_within_half_again_of_the_measured_p
         model = KinematicModel.build(read_mechanism(example_path(case)))
     F = 1500
     paths = {
-        "result": (lambda: kinematic_analysis(model, frames=F), "result", True),
+        # the checks that word no warning run when read: the estimate covers them
+        "result": (lambda: kinematic_analysis(model, frames=F).checks, "result", True),
         "bare": (lambda: kinematic_analysis(model, frames=F, checks=False), "result", False),
         "json": (lambda: dumps(kinematic_analysis(model, frames=F).to_dict()), "json", True),
     }

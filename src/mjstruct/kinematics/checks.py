@@ -20,6 +20,7 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -101,17 +102,36 @@ def plan_determinant(motion: Motion) -> tuple[FloatArray, FloatArray]:
 def run_checks(r: KinematicsResult, motion: Motion) -> None:
     """Add the checks to ``r.checks`` (and their warnings to ``r.warnings``).
 
-    Link lengths between every pair of centres and points on a link; analogs against
-    five-point differences of the positions (uniform one-driver sweeps); the constraint
-    Jacobian's rank and its determinant with the drivers fixed (from the plan's group
-    determinants, the dense Jacobian on a few frames only).
+    The constraint Jacobian's rank and its determinant with the drivers fixed (from
+    the plan's group determinants, the dense Jacobian on a few frames only) now, since
+    they word warnings; link lengths and analogs against differences
+    (:func:`value_checks`) when ``r.checks`` is first read.
     """
-    ev = motion.evaluation
+    _jacobian_checks(r, motion)
+    r.check_on_demand(lambda: value_checks(r))
+
+
+def value_checks(r: KinematicsResult) -> dict[str, Any]:
+    """Link lengths and analogs against differences, by name.
+
+    Link lengths between every pair of centres and points on a link over the valid
+    frames; analogs against five-point differences of the positions (uniform
+    one-driver sweeps).
+    """
+    with np.errstate(all="ignore"):
+        out = {"link_lengths": _link_lengths(r)}
+        analogs = _analogs_vs_differences(r)
+    if analogs is not None:
+        out["analogs_vs_differences"] = analogs
+    return out
+
+
+def _link_lengths(r: KinematicsResult) -> dict[str, Any]:
+    """The largest change of a distance between two centres (or points) of one link."""
     m, g, v = r.mechanism, r.geometry, r.valid
-    # link lengths: distances between centres (and points) of one link over the valid
-    # frames; every pair on a link with few of them, else every one against three
-    # anchors (two far apart and the one farthest from their line: distances to
-    # three non-collinear points fix a point of a rigid link), linear in its joints
+    # every pair on a link with few of them, else every one against three anchors
+    # (two far apart and the one farthest from their line: distances to three
+    # non-collinear points fix a point of a rigid link), linear in its joints
     worst = 0.0
     worst_link = ""
     pos: dict[str, npt.NDArray[np.complex128]] = {}
@@ -130,45 +150,54 @@ def run_checks(r: KinematicsResult, motion: Motion) -> None:
             e = float(np.abs(d).max()) if d.size else 0.0
             if e > worst:
                 worst, worst_link = e, link
-    r.checks["link_lengths"] = {"max_error": worst, "link": worst_link or None}
-    # analogs against central differences of positions (uniform sweeps only); the
-    # five-point stencil (error ~ h^4 x^(5)/30) so that a disagreement means a wrong
-    # analog or a branch jump, not the coarseness of the frames
+    return {"max_error": worst, "link": worst_link or None}
+
+
+def _analogs_vs_differences(r: KinematicsResult) -> dict[str, Any] | None:
+    """The analogs against central differences of the positions (uniform one-driver
+    sweeps of at least 7 frames; None otherwise)."""
+    # the five-point stencil (error ~ h^4 x^(5)/30) so that a disagreement means a
+    # wrong analog or a branch jump, not the coarseness of the frames
+    v = r.valid
     q = r.q[:, 0]
     F = q.size
+    if F < 7 or r.q.shape[1] != 1:
+        return None
     dq = np.diff(q)
-    if F >= 7 and r.q.shape[1] == 1 and np.abs(dq - dq[0]).max() <= 1e-9 * abs(dq[0]):
-        h = q[1] - q[0]
-        err, big, at = 0.0, 0.0, None
-        ok = v[4:] & v[3:-1] & v[2:-2] & v[1:-3] & v[:-4]
-        if ok.any():
-            # every joint and point at once: rows x then y, analogs alongside
-            tables = list(r.joints.values()) + list(r.points.values())
-            x = np.array([d[c] for c in ("x", "y") for d in tables])
-            sx = np.array([d[c] for c in ("sx", "sy") for d in tables])[:, 2:-2]
-            # (x0 - 8 x1 + 8 x3 - x4) / 12h in place: the same operations in the same
-            # order (the same bits), without a temporary per operation
-            fd = np.multiply(x[:, 1:-3], 8)
-            np.subtract(x[:, :-4], fd, out=fd)
-            fd += 8 * x[:, 3:-1]
-            fd -= x[:, 4:]
-            fd /= 12 * h
-            fd -= sx
-            np.abs(fd, out=fd)
-            # frames not checked are zero after the row maximum (ok is per frame)
-            dev = np.where(ok, fd.max(axis=0), 0.0)
-            k = int(dev.argmax())
-            err, at = float(dev[k]), float(q[k + 2])
-            big = float(np.abs(sx).max(axis=0)[ok].max())
-            if err == 0.0:
-                at = None
-        r.checks["analogs_vs_differences"] = {
-            "max_error": err,
-            "max_analog": big,
-            "step": float(h),
-            "q_of_max_error": at,
-        }
-    # constraint Jacobian: rank (mobility refinement) and driver-fixed determinant
+    if not np.abs(dq - dq[0]).max() <= 1e-9 * abs(dq[0]):
+        return None
+    h = q[1] - q[0]
+    err, big, at = 0.0, 0.0, None
+    ok = v[4:] & v[3:-1] & v[2:-2] & v[1:-3] & v[:-4]
+    if ok.any():
+        # every joint and point at once: rows x then y, analogs alongside
+        tables = list(r.joints.values()) + list(r.points.values())
+        x = np.array([d[c] for c in ("x", "y") for d in tables])
+        sx = np.array([d[c] for c in ("sx", "sy") for d in tables])[:, 2:-2]
+        # (x0 - 8 x1 + 8 x3 - x4) / 12h in place: the same operations in the same
+        # order (the same bits), without a temporary per operation
+        fd = np.multiply(x[:, 1:-3], 8)
+        np.subtract(x[:, :-4], fd, out=fd)
+        fd += 8 * x[:, 3:-1]
+        fd -= x[:, 4:]
+        fd /= 12 * h
+        fd -= sx
+        np.abs(fd, out=fd)
+        # frames not checked are zero after the row maximum (ok is per frame)
+        dev = np.where(ok, fd.max(axis=0), 0.0)
+        k = int(dev.argmax())
+        err, at = float(dev[k]), float(q[k + 2])
+        big = float(np.abs(sx).max(axis=0)[ok].max())
+        if err == 0.0:
+            at = None
+    return {"max_error": err, "max_analog": big, "step": float(h), "q_of_max_error": at}
+
+
+def _jacobian_checks(r: KinematicsResult, motion: Motion) -> None:
+    """The constraint Jacobian's rank (mobility refinement) and driver-fixed determinant,
+    the near-singular frames and the redundant constraints (with their warnings)."""
+    m, g, v = r.mechanism, r.geometry, r.valid
+    ev = motion.evaluation
     with np.errstate(all="ignore"), one_blas_thread():
         jc = check_jacobian(m, g, ev.poses, r.plan.drivers, factor=plan_determinant(motion))
     r.jacobian = jc

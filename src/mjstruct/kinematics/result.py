@@ -19,6 +19,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -44,7 +45,9 @@ class KinematicsResult:
 
     ``q`` (frames × drivers); ``valid`` frames that assemble; ``joints`` / ``points``:
     id -> {x, y, vx, vy, ax, ay, sx, sy, kx, ky} arrays (s: velocity analogs, k:
-    acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa}.
+    acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa};
+    ``checks``: the checks by name (those that word no warning are computed when
+    ``checks`` is first read, see :meth:`check_on_demand`).
     """
 
     model: KinematicModel
@@ -56,12 +59,34 @@ class KinematicsResult:
     links: dict[str, dict[str, FloatArray]]
     events: list[BranchEvent]
     warnings: list[str]
-    checks: dict[str, Any]
+    _checks: dict[str, Any]
     closure: Closure | None = None
     jacobian: JacobianCheck | None = field(default=None, repr=False)
     #: frames whose positions exist (``valid`` ones, and singular frames where only the
     #: velocities and accelerations are infinite); default: ``valid``
     assembled: BoolArray | None = None
+    _on_demand: Callable[[], dict[str, Any]] | None = field(default=None, repr=False)
+
+    @property
+    def checks(self) -> dict[str, Any]:
+        """The checks by name (their JSON object); deferred ones are computed here."""
+        if self._on_demand is not None:
+            compute, self._on_demand = self._on_demand, None
+            # the deferred checks come first, in the order the report gives them
+            self._checks = {**compute(), **self._checks}
+        return self._checks
+
+    def check_on_demand(self, compute: Callable[[], dict[str, Any]]) -> None:
+        """Defer checks that word no warning until :attr:`checks` is read.
+
+        ``compute`` returns them by name; a result passed over (positions read, checks
+        never looked at) does not pay for them.
+        """
+        if self._on_demand is not None:
+            earlier = self._on_demand
+            self._on_demand = lambda: {**earlier(), **compute()}
+        else:
+            self._on_demand = compute
 
     @property
     def placed(self) -> BoolArray:
@@ -182,16 +207,36 @@ def unwrap_rows(p: FloatArray) -> FloatArray:
     high = period / 2
     low = -high
     dd = np.diff(p, axis=1)
-    big = np.abs(dd) >= high
-    ph = np.zeros_like(dd)
-    if big.any():
-        d = dd[big]
-        dmod = np.mod(d - low, period) + low
-        np.copyto(dmod, high, where=(dmod == low) & (d > 0))
-        ph[big] = dmod - d
-    up = p.copy()
-    up[:, 1:] = p[:, 1:] + ph.cumsum(axis=1)
+    rows, cols = np.nonzero(np.abs(dd) >= high)
+    # numpy adds a zero correction before any jump (-0.0 becomes 0.0), none to column 0
+    up: FloatArray = np.empty_like(p)
+    up[:, 0] = p[:, 0]
+    np.add(p[:, 1:], 0.0, out=up[:, 1:])
+    if rows.size == 0:
+        return up
+    d = dd[rows, cols]
+    dmod = np.mod(d - low, period) + low
+    np.copyto(dmod, high, where=(dmod == low) & (d > 0))
+    ph = dmod - d
+    if rows.size > MANY_JUMPS:
+        full = np.zeros_like(dd)
+        full[rows, cols] = ph
+        up[:, 1:] = p[:, 1:] + full.cumsum(axis=1)
+        return up
+    # the running correction is constant between jumps: add it segment by segment (the
+    # same sums as numpy's cumulative sum, whose zeros add nothing)
+    n = p.shape[1]
+    for row in np.unique(rows):
+        at = rows == row
+        where, total = cols[at] + 1, ph[at].cumsum()
+        for k, a in enumerate(where):
+            b = where[k + 1] if k + 1 < where.size else n
+            np.add(p[row, a:b], total[k], out=up[row, a:b])
     return up
+
+
+#: above this many jumps in all :func:`unwrap_rows` corrects with one cumulative sum
+MANY_JUMPS = 64
 
 
 #: the table's position columns (given on every assembled frame, singular ones too)
@@ -214,13 +259,16 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     # a singular frame (a dead point of the drivers) has positions but infinite
     # derivatives: it assembles, though it is not valid
     # (a frame that breaks a redundant constraint has finite derivatives: not assembled)
-    pos_ok, der_ok = np.ones_like(valid), np.ones_like(valid)
-    for pose in ev.poses.values():
-        pos_ok &= np.isfinite(pose.r + pose.A[0])
-        der_ok &= np.isfinite(sum(pose.A[1:]) + sum(pose.w))
-    if motion.closure is not None:
-        pos_ok &= motion.closure.converged
-    assembled = valid | (pos_ok & ~der_ok)
+    if valid.all():
+        assembled = valid.copy()  # every frame valid: every frame assembles
+    else:
+        pos_ok, der_ok = np.ones_like(valid), np.ones_like(valid)
+        for pose in ev.poses.values():
+            pos_ok &= np.isfinite(pose.r + pose.A[0])
+            der_ok &= np.isfinite(sum(pose.A[1:]) + sum(pose.w))
+        if motion.closure is not None:
+            pos_ok &= motion.closure.converged
+        assembled = valid | (pos_ok & ~der_ok)
 
     def scaled(a: FloatArray, k: float) -> FloatArray:
         return a if k == 1.0 else a * k
