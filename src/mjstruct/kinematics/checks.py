@@ -134,20 +134,24 @@ def _link_lengths(r: KinematicsResult) -> dict[str, Any]:
     # non-collinear points fix a point of a rigid link), linear in its joints
     worst = 0.0
     worst_link = ""
-    pos: dict[str, npt.NDArray[np.complex128]] = {}
     every = bool(v.all())
     on_link: dict[str, list[str]] = {x: [] for x in m.links}
     for pid, (lk, _) in g.points.items():
         on_link[lk].append(pid)
     for link in m.links:
         ids = [j for j in m.link_joints[link] if m.joint(j).kind == "R"] + on_link[link]
-        for i in ids:
-            if i not in pos:
-                pos[i] = _position(r, i) if every else _position(r, i)[v]
         ref = {i: g.centres[i] if i in g.centres else g.points[i][1] for i in ids}
         for a, b in _length_pairs(ids, ref):
-            d = np.abs(pos[a] - pos[b]) - abs(ref[a] - ref[b])
-            e = float(np.abs(d).max()) if d.size else 0.0
+            ta, tb = _table(r, a), _table(r, b)
+            # the distance in place (np.hypot is twice as slow; sizes are far from
+            # overflowing a square)
+            d, dy = ta["x"] - tb["x"], ta["y"] - tb["y"]
+            d *= d
+            dy *= dy
+            d += dy
+            np.sqrt(d, out=d)
+            d -= abs(ref[a] - ref[b])
+            e = float(np.abs(d if every else d[v]).max()) if v.any() else 0.0
             if e > worst:
                 worst, worst_link = e, link
     return {"max_error": worst, "link": worst_link or None}
@@ -170,24 +174,29 @@ def _analogs_vs_differences(r: KinematicsResult) -> dict[str, Any] | None:
     err, big, at = 0.0, 0.0, None
     ok = v[4:] & v[3:-1] & v[2:-2] & v[1:-3] & v[:-4]
     if ok.any():
-        # every joint and point at once: rows x then y, analogs alongside
-        tables = list(r.joints.values()) + list(r.points.values())
-        x = np.array([d[c] for c in ("x", "y") for d in tables])
-        sx = np.array([d[c] for c in ("sx", "sy") for d in tables])[:, 2:-2]
-        # (x0 - 8 x1 + 8 x3 - x4) / 12h in place: the same operations in the same
-        # order (the same bits), without a temporary per operation
-        fd = np.multiply(x[:, 1:-3], 8)
-        np.subtract(x[:, :-4], fd, out=fd)
-        fd += 8 * x[:, 3:-1]
-        fd -= x[:, 4:]
-        fd /= 12 * h
-        fd -= sx
-        np.abs(fd, out=fd)
-        # frames not checked are zero after the row maximum (ok is per frame)
-        dev = np.where(ok, fd.max(axis=0), 0.0)
+        # row by row (a coordinate of a joint or point): temporaries of one row stay
+        # small, where a stack of every row costs more to allocate than to compute
+        dev = np.zeros(F - 4)
+        top = np.zeros(F - 4)
+        fd = np.empty(F - 4)
+        for table in (r.joints, r.points):
+            for d in table.values():
+                for c, sc in (("x", "sx"), ("y", "sy")):
+                    x, sx = d[c], d[sc][2:-2]
+                    # (8 (x3 - x1) - (x4 - x0)) / 12h: the five-point derivative
+                    np.subtract(x[3:-1], x[1:-3], out=fd)
+                    fd *= 8
+                    fd -= x[4:]
+                    fd += x[:-4]
+                    fd /= 12 * h
+                    fd -= sx
+                    np.maximum(dev, np.abs(fd, out=fd), out=dev)
+                    np.maximum(top, np.abs(sx), out=top)
+        # frames not checked count zero (ok is per frame)
+        dev[~ok] = 0.0
         k = int(dev.argmax())
         err, at = float(dev[k]), float(q[k + 2])
-        big = float(np.abs(sx).max(axis=0)[ok].max())
+        big = float(top[ok].max())
         if err == 0.0:
             at = None
     return {"max_error": err, "max_analog": big, "step": float(h), "q_of_max_error": at}
@@ -315,6 +324,5 @@ def _length_pairs(ids: list[str], ref: dict[str, complex]) -> list[tuple[str, st
     return [(x, i) for x in anchors for i in ids if i != x]
 
 
-def _position(r: KinematicsResult, ident: str) -> npt.NDArray[np.complex128]:
-    d = r.joints.get(ident) or r.points[ident]
-    return d["x"] + 1j * d["y"]
+def _table(r: KinematicsResult, ident: str) -> dict[str, FloatArray]:
+    return r.joints.get(ident) or r.points[ident]

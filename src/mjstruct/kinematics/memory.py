@@ -14,7 +14,8 @@ frames, slope and intercept) on the four-bar, class-IV, Zhivago examples and k
 four-bars sharing one crank (10 to 1000 links):
 
 * result, checks off: 51-60 bytes per item and frame (:data:`RESULT_BYTES` 60);
-* result with checks: 74-115 (:data:`CHECKS_BYTES` adds 40);
+* result with checks, read: 53-81 (:data:`CHECKS_BYTES` adds 20; the checks go row by
+  row, only the closure's Jacobian over the frames grows with them);
 * JSON text (the result, its lists of floats and the text): 396-425
   (:data:`JSON_BYTES` 420);
 * the dense Jacobians: 5 to 26 matrices of Nu × 3Ns doubles, depending on how many
@@ -37,7 +38,7 @@ True
 >>> check_sweep_memory(model, 10**9, limit=2**31)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-mjstruct.errors.MechanismError: frames: 1000000000 frames need about 9e+11 bytes, over ... fit
+mjstruct.errors.MechanismError: frames: 1000000000 frames need about 7.2e+11 bytes, over ... fit
 """
 
 from __future__ import annotations
@@ -55,8 +56,8 @@ DEFAULT_MAX_MEMORY = 2**31
 MEMORY_ENV = "MJSTRUCT_MAX_MEMORY_BYTES"
 #: bytes per table item and frame of the result without checks (measured 51-60)
 RESULT_BYTES = 60
-#: bytes per table item and frame the checks add (measured 20-55)
-CHECKS_BYTES = 40
+#: bytes per table item and frame the checks add (measured 0-23)
+CHECKS_BYTES = 20
 #: bytes per table item and frame of the JSON path, result and checks included
 #: (measured 396-425)
 JSON_BYTES = 420
