@@ -228,7 +228,10 @@ def _jacobian_checks(r: KinematicsResult, motion: Motion) -> None:
     )
     # frames whose positions exist but whose analogs do not: the driver-fixed Jacobian
     # is singular there (|det| = 0), the deepest of near-singular frames
-    flagged = np.union1d(flagged, np.flatnonzero(r.placed & ~v)).astype(int)
+    dead = r.placed & ~v
+    if dead.any():
+        flagged = np.union1d(flagged, np.flatnonzero(dead))
+    flagged = flagged.astype(int)
     kinds = _kinds(r, flagged) if len(flagged) else []
     with np.errstate(over="ignore", under="ignore"):
         lo = float(np.exp(logd[usable].min())) if usable.any() else float("nan")

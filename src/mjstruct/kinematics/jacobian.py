@@ -133,55 +133,47 @@ def constraint_jacobian(
     moving = [x for x in m.links if x != m.frame]
     col = {link: 3 * i for i, link in enumerate(moving)}
     F = next(iter(poses.values())).r.shape[0]
-    rows: list[FloatArray] = []
+    nu = sum(2 * (len(j.links) - 1) if j.kind == "R" else 2 for j in m.joints)
+    # filled in place, row by row (one allocation, no stack of row arrays)
+    J = np.zeros((F, nu, 3 * len(moving)))
+    D = np.zeros((F, len(drivers), 3 * len(moving)))
 
-    def zero() -> FloatArray:
-        return np.zeros((F, 3 * len(moving)))
-
-    def add_point(
-        row_x: FloatArray, row_y: FloatArray, link: str, z: complex, sign: float
-    ) -> None:
+    def add_point(i: int, link: str, z: complex, sign: float) -> None:
         if link not in col:
             return
         c = col[link]
-        row_x[:, c] += sign
-        row_y[:, c + 1] += sign
+        J[:, i, c] += sign
+        J[:, i + 1, c + 1] += sign
         d = 1j * poses[link].r * (z - 0j)
-        row_x[:, c + 2] += sign * d.real
-        row_y[:, c + 2] += sign * d.imag
+        J[:, i, c + 2] += sign * d.real
+        J[:, i + 1, c + 2] += sign * d.imag
 
+    i = 0
     for j in m.joints:
         z = geom.centres[j.id]
         if j.kind == "R":
             for other in j.links[1:]:
-                rx, ry = zero(), zero()
-                add_point(rx, ry, j.links[0], z, 1.0)
-                add_point(rx, ry, other, z, -1.0)
-                rows += [rx, ry]
+                add_point(i, j.links[0], z, 1.0)
+                add_point(i, other, z, -1.0)
+                i += 2
         else:
             a, b = j.links
-            ra = zero()
             if a in col:
-                ra[:, col[a] + 2] += 1.0
+                J[:, i, col[a] + 2] += 1.0
             if b in col:
-                ra[:, col[b] + 2] -= 1.0
-            rows.append(ra)
-            rows.append(_slide_row(poses, col, a, b, z, 1j * geom.axes[j.id], zero()))
-    drows = []
-    for d in drivers:
+                J[:, i, col[b] + 2] -= 1.0
+            _slide_row(poses, col, a, b, z, 1j * geom.axes[j.id], J[:, i + 1])
+            i += 2
+    for k, d in enumerate(drivers):
         j = m.joint(d)
         a, b = j.links[0], j.links[1]
-        row = zero()
         if j.kind == "R":
             if b in col:
-                row[:, col[b] + 2] += 1.0
+                D[:, k, col[b] + 2] += 1.0
             if a in col:
-                row[:, col[a] + 2] -= 1.0
+                D[:, k, col[a] + 2] -= 1.0
         else:
-            row = _slide_row(poses, col, a, b, geom.centres[d], geom.axes[d], row)
-        drows.append(row)
-    J = np.stack(rows, axis=1) if rows else np.zeros((F, 0, 3 * len(moving)))
-    D = np.stack(drows, axis=1) if drows else np.zeros((F, 0, 3 * len(moving)))
+            _slide_row(poses, col, a, b, geom.centres[d], geom.axes[d], D[:, k])
     return J, D
 
 
@@ -388,8 +380,9 @@ def _factored(
         return None
     # calibrate on well-conditioned frames spread over the motion
     good = np.flatnonzero(ok & (logf >= logf[ok].max() - np.log(2.0)))
-    cal = good[np.linspace(0, good.size - 1, min(good.size, CALIBRATION_FRAMES)).astype(int)]
-    cal = np.unique(cal)
+    n = min(good.size, CALIBRATION_FRAMES)
+    # evenly spread (integer arithmetic: distinct, in order)
+    cal = good[[k * (good.size - 1) // max(n - 1, 1) for k in range(n)]]
     # one frame at a time (a large mechanism's dense Jacobian is n^2 in memory); the
     # matrices kept for the result stay within the memory budget
     kept: list[FloatArray] = []
@@ -430,7 +423,9 @@ def _factored(
     rank = np.full(F, -1)
     strong = finite & (logdet >= top + np.log(NEAR_SINGULAR))
     rank[strong] = nu  # a nonzero determinant of [J; D]: the rows of J are independent
-    weak = _dips(logdet, finite & ~strong, min(sample, RANK_FRAMES, _chunk(nu, nc)))
+    soft = finite & ~strong
+    limit = min(sample, RANK_FRAMES, _chunk(nu, nc))
+    weak = _dips(logdet, soft, limit) if soft.any() else np.zeros(0, dtype=np.intp)
     if nu * nc > SVD_ENTRIES:
         weak = weak[:0]
     if weak.size:
