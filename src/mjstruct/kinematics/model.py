@@ -224,11 +224,7 @@ class KinematicModel:
             K, events = track_branches(self, qa, t, first=ev)
             if any(e.action == "switched" for e in events):
                 ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K)
-        valid = np.ones(qa.shape[0], bool)
-        for pose in ev.poses.values():
-            # one test per link: a sum is finite only where every part is
-            total = pose.r + sum(pose.A) + sum(pose.w)
-            valid &= np.isfinite(total)
+        valid = _finite_frames(ev, qa.shape[0])
         if plan.unknowns == 0 and ev.residuals:
             # redundant constraints: they must hold along the motion, else it stops there
             worst = np.abs(ev.residual_matrix(0)).max(axis=1)
@@ -246,6 +242,21 @@ class KinematicModel:
         if sol is not None:
             valid &= sol.converged
         return Motion(self, qa, order, ev, valid, sol, tuple(events), tuple(warnings))
+
+
+def _finite_frames(ev: Evaluation, frames: int) -> BoolArray:
+    """Frames where every link's pose and its derivatives are finite."""
+    parts = [x for pose in ev.poses.values() for x in (pose.r, *pose.A, *pose.w)]
+    # each array's sum is finite when all of it is (an overflowing sum only sends
+    # the test down the frame-by-frame path): one reduction per array
+    if np.isfinite(sum(complex(x.sum()) for x in parts)):
+        return np.ones(frames, bool)
+    valid = np.ones(frames, bool)
+    for pose in ev.poses.values():
+        # one test per link: a sum is finite only where every part is
+        total = pose.r + sum(pose.A) + sum(pose.w)
+        valid &= np.isfinite(total)
+    return valid
 
 
 @dataclass(frozen=True)
