@@ -249,8 +249,9 @@ def _finite_frames(ev: Evaluation, frames: int) -> BoolArray:
     parts = [x for pose in ev.poses.values() for x in (pose.r, *pose.A, *pose.w)]
     # each array's sum is finite when all of it is (an overflowing sum only sends
     # the test down the frame-by-frame path): one reduction per array
-    if np.isfinite(sum(complex(x.sum()) for x in parts)):
-        return np.ones(frames, bool)
+    with np.errstate(all="ignore"):
+        if np.isfinite(sum(complex(x.sum()) for x in parts)):
+            return np.ones(frames, bool)
     valid = np.ones(frames, bool)
     for pose in ev.poses.values():
         # one test per link: a sum is finite only where every part is
