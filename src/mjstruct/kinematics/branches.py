@@ -252,6 +252,8 @@ def _next_candidate(sine: FloatArray, ok: BoolArray, start: int) -> tuple[int, i
     F = sine.size
     if F < 3 or start >= F - 1:
         return None
+    if not (sine[max(start, 1) : F - 1] < WATCH).any() and ok.all():
+        return None  # no undefined frame, none low enough to be a dip: the common case
     s = np.where(ok, sine, np.inf)
     inner = np.arange(1, F - 1)
     dip = (

@@ -289,9 +289,14 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     # the angles of every moving link at once (one unwrap over the rows: the same
     # values as row by row); a row with gaps is unwrapped over its finite frames
     angles = np.angle(np.stack([ev.poses[x].r for x in moving])) if moving else np.zeros((0, 0))
-    whole = np.asarray(np.isfinite(angles).all(axis=1), dtype=bool)
-    if whole.any():
-        angles[whole] = unwrap_rows(angles[whole])
+    if valid.all():
+        # every rotation is finite: every row unwraps whole, without a masked copy
+        whole = np.ones(len(moving), dtype=bool)
+        angles = unwrap_rows(angles) if moving else angles
+    else:
+        whole = np.asarray(np.isfinite(angles).all(axis=1), dtype=bool)
+        if whole.any():
+            angles[whole] = unwrap_rows(angles[whole])
     for link in m.links:
         p = ev.poses[link]
         if link not in moving:

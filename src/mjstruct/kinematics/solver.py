@@ -341,6 +341,8 @@ def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
 
     ``offset``: the number of ``r``'s first frame in the sweep (a streamed chunk).
     """
+    if r.valid.all():
+        return []  # every frame valid (and so placed): no run to word
     out = _runs(
         r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j}); values are null", offset
     )
