@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main as cli_main
-from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
+from mjstruct.io import read_mechanism
 from mjstruct.kinematics.checks import batched_det, plan_determinant
 from mjstruct.kinematics.closure import closure_jacobian
 from mjstruct.kinematics.evaluate import evaluate
@@ -19,17 +19,7 @@ from mjstruct.kinematics.jacobian import check_jacobian
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.solver import kinematic_analysis
 from mjstruct.structure.assur import assur_groups
-from mjstruct.testing import random_mechanism, shared_crank
-
-
-def with_random_geometry(m, seed: int):
-    rng = np.random.default_rng(seed)
-    d = mechanism_to_dict(m)
-    for j in d["joints"]:
-        j["at"] = [float(x) for x in rng.uniform(-1, 1, 2)]
-        if j.get("type", "R") == "P":
-            j["axis"] = [float(x) for x in rng.uniform(-1, 1, 2)]
-    return mechanism_from_dict(d)
+from mjstruct.testing import random_geometry, random_mechanism, shared_crank
 
 
 @pytest.mark.parametrize(
@@ -122,7 +112,7 @@ def test_shared_crank_plans_one_triangle_and_one_diagonal_per_four_bar():
 def test_every_decomposable_mechanism_plans_and_closes_at_its_reference(groups, seed):
     """Random mechanisms (dyads, triads, class-IV groups, multiple joints, sliders) with
     random geometry, up to about 200 links: a plan, and the reference reproduced."""
-    m = with_random_geometry(random_mechanism(groups, seed=seed), seed)
+    m = random_geometry(random_mechanism(groups, seed=seed), seed)
     assert assur_groups(m).groups  # the decomposition accepts it
     model = KinematicModel.build(m)
     # as many closure equations as unknowns (generic geometry: no redundant constraint)

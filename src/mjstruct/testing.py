@@ -2,8 +2,9 @@
 
 This module owns :func:`random_mechanism`: a one-DOF mechanism grown from a crank by
 dyads, triads and class-IV groups, so that its Assur decomposition is known by
-construction; and :func:`shared_crank`, the size-scaling family of the kinematics
-benchmarks and tests.  It is not part of the pinned public API.
+construction; :func:`random_geometry`, a random reference configuration for it; and
+:func:`shared_crank`, the size-scaling family of the kinematics benchmarks and tests.
+It is not part of the pinned public API.
 
 >>> m = random_mechanism(3, seed=2)
 >>> m.frame, m.drivers
@@ -119,3 +120,24 @@ def shared_crank(k: int) -> Mechanism:
         joints.append({"id": f"B{i}", "links": [f"c{i}", f"r{i}"], "at": [b.real, b.imag]})
         joints.append({"id": f"O2_{i}", "links": [f"r{i}", "0"], "at": [o2.real, o2.imag]})
     return mechanism_from_dict({"frame": "0", "drivers": ["O1"], "joints": joints})
+
+
+def random_geometry(m: Mechanism, seed: int) -> Mechanism:
+    """``m`` with every joint at a random point of the square [-1, 1]² (and every
+    slider's axis a random direction), drawn from ``seed``.
+
+    >>> m = random_geometry(random_mechanism(2, seed=4), seed=4)
+    >>> all(j.at is not None and max(map(abs, j.at)) <= 1 for j in m.joints)
+    True
+    """
+    import numpy as np
+
+    from mjstruct.io import mechanism_from_dict, mechanism_to_dict
+
+    rng = np.random.default_rng(seed)
+    d = mechanism_to_dict(m)
+    for j in d["joints"]:
+        j["at"] = [float(x) for x in rng.uniform(-1, 1, 2)]
+        if j.get("type", "R") == "P":
+            j["axis"] = [float(x) for x in rng.uniform(-1, 1, 2)]
+    return mechanism_from_dict(d)
