@@ -29,14 +29,22 @@ Examples
 from __future__ import annotations
 
 import cmath
+import math
 from dataclasses import dataclass
+
+import numpy as np
 
 from mjstruct.errors import MechanismError, expect_mechanism
 from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.drivers import validate_drivers
+from mjstruct.typing import FloatArray
 
 __all__ = ["COINCIDE", "Geometry", "read_geometry"]
+
+
+#: hull vertices from which the pairwise distances are taken in numpy blocks
+HULL_VECTORISED = 64
 
 
 def diameter(points: list[complex]) -> float:
@@ -44,7 +52,8 @@ def diameter(points: list[complex]) -> float:
 
     The farthest pair lies on the convex hull, so only the hull's vertices (Andrew's
     monotone chain, O(n log n)) are compared pairwise: the same value as all pairs,
-    without their n² cost on mechanisms of a thousand links.
+    without their n² cost on mechanisms of a thousand links.  A large hull (points on
+    a circle) is screened in numpy first (:func:`_farthest`).
 
     >>> diameter([0j, 1 + 0j, 0.5 + 0.2j, 1j])
     1.4142135623730951
@@ -67,7 +76,77 @@ def diameter(points: list[complex]) -> float:
             upper.pop()
         upper.append(z)
     hull = lower[:-1] + upper[:-1]
-    return max(abs(a - b) for a in hull for b in hull)
+    if len(hull) < HULL_VECTORISED:
+        return max(abs(a - b) for a in hull for b in hull)
+    return _farthest(hull)
+
+
+def _farthest(hull: list[complex]) -> float:
+    """Largest ``abs(a - b)`` over pairs of ``hull``, bit for bit as pairwise in Python.
+
+    numpy's squared distances (in blocks of about a million, one pass) find the pairs
+    within a relative 1e-9 of the largest; their Python ``abs`` decides (numpy's complex
+    ``abs`` may differ from Python's in the last bit).
+    """
+    x = np.array([z.real for z in hull])
+    y = np.array([z.imag for z in hull])
+    rows = max(1, 2**20 // len(hull))
+    blocks = range(0, len(hull), rows)
+
+    def squares(k: int) -> FloatArray:
+        dx, dy = x[k : k + rows, None] - x[None, :], y[k : k + rows, None] - y[None, :]
+        out: FloatArray = dx * dx + dy * dy
+        return out
+
+    top, near = 0.0, []
+    for k in blocks:
+        sq = squares(k)
+        top = max(top, float(sq.max()))
+        i, j = np.nonzero(sq >= top * (1.0 - 1e-9))
+        near.append((k, i, j, sq[i, j]))
+    if not math.isfinite(top):  # overflowed squares: all pairs, as for a small hull
+        return max(abs(a - b) for a in hull for b in hull)
+    best = 0.0
+    for k, i, j, v in near:
+        keep = v >= top * (1.0 - 1e-9)
+        for a, b in zip(i[keep].tolist(), j[keep].tolist(), strict=True):
+            best = max(best, abs(hull[k + a] - hull[b]))
+    return best
+
+
+def first_close_pair(
+    ids: list[str], centres: dict[str, complex], tol: float
+) -> tuple[str, str] | None:
+    """The first pair (in the order of ``ids``) of centres at most ``tol`` apart, or None.
+
+    Centres are binned in squares of side ``tol``: a close pair lies in one square or
+    two neighbouring ones, and squares hold a few centres when no pair is close, so a
+    link of many joints (the frame of a large mechanism) costs O(n), not n² pairs.
+
+    >>> first_close_pair(["a", "b", "c"], {"a": 0j, "b": 1 + 0j, "c": 1 + 1e-13j}, 1e-12)
+    ('b', 'c')
+    """
+    finite = all(cmath.isfinite(centres[a]) for a in ids)
+    if len(ids) < 16 or not finite:
+        for i, a in enumerate(ids):
+            for b in ids[i + 1 :]:
+                if abs(centres[a] - centres[b]) <= tol:
+                    return a, b
+        return None
+    cells: dict[tuple[int, int], list[int]] = {}
+    for k, a in enumerate(ids):
+        z = centres[a]
+        cells.setdefault((math.floor(z.real / tol), math.floor(z.imag / tol)), []).append(k)
+    best: tuple[int, int] | None = None
+    for (cx, cy), here in cells.items():
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for k in here:
+                    for q in cells.get((cx + dx, cy + dy), ()):
+                        close = k < q and abs(centres[ids[k]] - centres[ids[q]]) <= tol
+                        if close and (best is None or (k, q) < best):
+                            best = (k, q)
+    return None if best is None else (ids[best[0]], ids[best[1]])
 
 
 @dataclass(frozen=True)
@@ -131,15 +210,17 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
         raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
     tol = COINCIDE * scale
     index = {j.id: k for k, j in enumerate(m.joints)}
+    revolute_of = {
+        link: [jid for jid in m.link_joints[link] if jid not in axes] for link in m.links
+    }
     for link in m.links:
-        rev = [jid for jid in m.link_joints[link] if m.joint(jid).kind == "R"]
-        for i, ja in enumerate(rev):
-            for jb in rev[i + 1 :]:
-                if abs(centres[ja] - centres[jb]) <= tol:
-                    raise MechanismError(
-                        f"joints[{index[jb]}].at: joints {ja!r} and {jb!r} of link {link!r} are "
-                        "at one point (a zero-length side; join them as one multiple joint)"
-                    )
+        close = first_close_pair(revolute_of[link], centres, tol)
+        if close is not None:
+            ja, jb = close
+            raise MechanismError(
+                f"joints[{index[jb]}].at: joints {ja!r} and {jb!r} of link {link!r} are "
+                "at one point (a zero-length side; join them as one multiple joint)"
+            )
 
     char_angle: dict[str, float] = {}
     char_joints: dict[str, tuple[str, ...]] = {}
@@ -147,7 +228,7 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
         if link == m.frame:
             char_angle[link], char_joints[link] = 0.0, ()
             continue
-        revolute = [jid for jid in m.link_joints[link] if m.joint(jid).kind == "R"]
+        revolute = revolute_of[link]
         pair = next(
             (
                 (a, b)

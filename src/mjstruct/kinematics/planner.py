@@ -52,8 +52,14 @@ from mjstruct.kinematics.steps import PLAN_RULES, STEP_KINDS, PlanState, Step, T
 from mjstruct.kinematics.steps.drivers import assume_angle, assume_slide
 from mjstruct.kinematics.tolerances import PLAN_RANK_TOL
 from mjstruct.mechanism import Mechanism
-from mjstruct.structure.assur import Decomposition, assur_groups
-from mjstruct.structure.drivers import validate_drivers
+from mjstruct.structure.assur import Decomposition
+from mjstruct.structure.assur.decomposition import decompose
+from mjstruct.structure.drivers import (
+    DriverBalance,
+    check_balance,
+    driver_balance,
+    validate_drivers,
+)
 from mjstruct.typing import FloatArray
 
 __all__ = ["STEP_KINDS", "Plan", "Step", "plan_kinematics"]
@@ -108,15 +114,17 @@ class Plan:
 def _propagate(st: PlanState, allowed: set[str] | None = None) -> None:
     """Apply the planning rules until nothing more can be placed."""
     st.open(allowed)
+    links, joints = st.m.links, st.topo.joint_ids
     while True:
-        for rule in PLAN_RULES:
+        for k, rule in enumerate(PLAN_RULES):
             if rule.subject == "drivers":
                 if rule.apply(st, ""):
                     break
                 continue
+            names = links if rule.subject == "link" else joints
             found = False
-            while (cand := st.pop(rule)) is not None:
-                if rule.apply(st, cand):
+            while (i := st.pop(k)) is not None:
+                if rule.apply(st, names[i]):
                     found = True
                     break
             if found:
@@ -252,9 +260,11 @@ def plan_kinematics(
         raise MechanismError("drivers: kinematics needs at least one driver joint")
     geom = geometry if geometry is not None else read_geometry(m, drv)
     assert m.frame is not None  # read_geometry checked it
-    _check_drivers(m, geom, drv)
+    # one pebble game for the drivers' check and the decomposition
+    balance = driver_balance(m, drv)
+    generic = _check_drivers(m, geom, balance)
     topo = Topology(m, drv)
-    groups, source, dec_ref = _groups_from(m, drv, decomposition)
+    groups, source, dec_ref = _groups_from(m, decomposition, balance if generic else None)
     refs = [m.frame] if dec_ref is None else [dec_ref, m.frame]
     # an inner driver (not on the frame) suggests solving in its first link's frame
     for d in drv:
@@ -316,25 +326,27 @@ def plan_kinematics(
     )
 
 
-def _check_drivers(m: Mechanism, geom: Geometry, drv: tuple[str, ...]) -> None:
+def _check_drivers(m: Mechanism, geom: Geometry, balance: DriverBalance) -> bool:
     """Refuse drivers that over- or under-drive the mechanism at its reference.
 
-    The generic count and independence (pebble game) first; where they refuse, the
-    geometry may still be special (a parallelogram whose redundant constraint the
-    pebble game cannot see): then the constraint Jacobian at the reference decides,
-    its mobility against the driver count, and each driver row against the rank of
-    the constraints and the drivers before it (a driver already fixed is refused).
+    The generic count and independence (the pebble game's ``balance``) first; where
+    they refuse, the geometry may still be special (a parallelogram whose redundant
+    constraint the pebble game cannot see): then the constraint Jacobian at the
+    reference decides, its mobility against the driver count, and each driver row
+    against the rank of the constraints and the drivers before it (a driver already
+    fixed is refused).  Returns True when the generic balance accepts the drivers.
     """
+    drv = balance.drivers
     try:
-        validate_drivers(m, drv)
-        return
+        check_balance(balance)
+        return True
     except MechanismError as generic:
         refusal = generic
     J, D = _normalised_jacobian(m, geom, drv)
     tol = PLAN_RANK_TOL * np.sqrt(J.shape[1])
     rank = int(np.linalg.matrix_rank(J, tol=tol)) if J.size else 0
     dof = J.shape[1] - rank
-    validate_drivers(m, drv, mobility=dof)  # the count against the real mobility
+    check_balance(balance, mobility=dof)  # the count against the real mobility
     fixed = []
     rows = J
     for d, row in zip(drv, D, strict=True):
@@ -350,8 +362,9 @@ def _check_drivers(m: Mechanism, geom: Geometry, drv: tuple[str, ...]) -> None:
             f"({', '.join(fixed)} already fixed by the structure and the drivers before "
             f"{them} at the reference configuration; Jacobian mobility F = {dof})"
         )
-    if dof != len(drv):  # pragma: no cover - validate_drivers with mobility refused it
+    if dof != len(drv):  # pragma: no cover - check_balance with mobility refused it
         raise refusal
+    return False
 
 
 def _normalised_jacobian(
@@ -386,17 +399,23 @@ def _jacobian_dof(m: Mechanism, geom: Geometry) -> int:
 
 
 def _groups_from(
-    m: Mechanism, drivers: tuple[str, ...], decomposition: Decomposition | None
+    m: Mechanism, decomposition: Decomposition | None, balance: DriverBalance | None
 ) -> tuple[list[set[str]] | None, str, str | None]:
     """Group order, plan source and reference link from an Assur decomposition, if
-    usable (else no groups: plan by propagation)."""
+    usable (else no groups: plan by propagation).
+
+    ``balance``: the drivers' pebble game when it accepts them (None: refused).
+    """
     dec = decomposition
     if dec is None:
-        try:
-            dec = assur_groups(m, drivers=drivers)
-        except MechanismError:
+        if balance is None:
             # not balanced generically (a special geometry such as a parallelogram):
             # plan by propagation alone, the Jacobian decides
+            return None, "propagation", None
+        try:
+            dec = decompose(m, balance)
+        except MechanismError:
+            # redundant constraints in the chain itself: propagation alone
             return None, "propagation", None
     if not dec.groups:
         return None, "propagation", None

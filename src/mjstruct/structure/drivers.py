@@ -183,8 +183,22 @@ def checked_balance(
     For callers that need the balance as well (the Assur decomposition reads the
     chain's own redundant constraints from it).
     """
-    out = _checked_ids(m, drivers)
-    b = driver_balance(m, out)
+    return check_balance(driver_balance(m, _checked_ids(m, drivers)), mobility=mobility)
+
+
+def check_balance(b: DriverBalance, *, mobility: int | None = None) -> DriverBalance:
+    """Refuse a :class:`DriverBalance` the way :func:`validate_drivers` does, else return it.
+
+    For callers that play the game once and judge its result more than once (the
+    kinematic planner: the generic balance, then the Jacobian's ``mobility``).
+
+    >>> from mjstruct.mechanism import Mechanism
+    >>> four_bar = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 3]),
+    ...                             ("O2", [3, 0])], frame=0)
+    >>> check_balance(driver_balance(four_bar, ["O1"])).drivers
+    ('O1',)
+    """
+    out = b.drivers
     F = b.F_generic if mobility is None else mobility
     if not out and F > 0:
         raise MechanismError(

@@ -29,6 +29,8 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.kinematics.geometry import Geometry
+from mjstruct.kinematics.steps.paths import ClusterPaths
+from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.kinematics.triangles import Jet, Pose
 from mjstruct.mechanism import Mechanism
 
@@ -235,20 +237,36 @@ class Topology:
         self.drivers = drivers
         self.driver_set = frozenset(drivers)
         self.joint_index = {j.id: k for k, j in enumerate(m.joints)}
+        self.joint_ids = tuple(j.id for j in m.joints)
         self.link_index = {x: k for k, x in enumerate(m.links)}
         self.kind = {j.id: j.kind for j in m.joints}
-        self.revolute = {
-            x: tuple(j for j in m.link_joints[x] if self.kind[j] == "R") for x in m.links
-        }
+        kind, link_joints = self.kind, m.link_joints
+        self.revolute = {x: tuple(j for j in link_joints[x] if kind[j] == "R") for x in m.links}
         # prismatic joints that are guides (not drivers), per link
         self.guides = {
-            x: tuple(j for j in m.link_joints[x] if self.kind[j] == "P" and j not in drivers)
+            x: tuple(j for j in link_joints[x] if kind[j] == "P" and j not in drivers)
             for x in m.links
         }
         # links of each joint, and how many of them have a guide: a rule that needs
         # two guided links at a joint skips a multiple joint of unguided ones at once
         self.links_of = {j.id: j.links for j in m.joints}
-        self.guided = {j.id: sum(1 for x in j.links if self.guides[x]) for j in m.joints}
+        guides = self.guides
+        self.guided = {j.id: sum(1 for x in j.links if guides[x]) for j in m.joints}
+        # each joint's (subject, index) for the candidate queues
+        self.joint_key = {j.id: (j.kind, k) for k, j in enumerate(m.joints)}
+        # the rules (positions in PLAN_RULES) that examine each kind of subject
+        self.rules_of: dict[str, tuple[int, ...]] = {
+            subject: tuple(k for k, r in enumerate(PLAN_RULES) if r.subject == subject)
+            for subject in ("link", "R", "P")
+        }
+        self._positions: dict[str, dict[str, int]] = {}
+
+    def position(self, joint: str) -> dict[str, int]:
+        """Link -> its place in the joint's list (for a joint of many links)."""
+        pos = self._positions.get(joint)
+        if pos is None:
+            pos = self._positions[joint] = {x: k for k, x in enumerate(self.links_of[joint])}
+        return pos
 
 
 class PlanState:
@@ -257,9 +275,10 @@ class PlanState:
     A candidate leaves its rule's queue when the rule finds nothing for it, and comes
     back only when something it depends on changes: a link gets its first known centre
     (its joints are queued) or its second (the link is queued), a link is placed (the
-    joints of the links that slide on it are queued), or the set of links allowed to
-    be placed changes (:meth:`open`).  So every rule's first applicable candidate in
-    file order is found without rescanning the mechanism.
+    joints of the links that slide on it are queued), or a link becomes allowed to be
+    placed (:meth:`open`; it and its joints are queued).  So every rule's first
+    applicable candidate in file order is found without rescanning the mechanism, and
+    a propagation costs what changed, not the mechanism's size.
     """
 
     def __init__(self, m: Mechanism, geom: Geometry, topo: Topology) -> None:
@@ -273,16 +292,24 @@ class PlanState:
         self.steps: list[Step] = []
         self.unknowns = 0
         self.allowed: set[str] | None = None
-        self.queues: dict[str, list[int]] = {r.name: [] for r in PLAN_RULES}
-        self.queued: dict[str, set[int]] = {r.name: set() for r in PLAN_RULES}
+        # the links every candidate out of the queues was examined with (see open)
+        self.opened: set[str] | None = set()
+        self.queues: list[list[int]] = [[] for _ in PLAN_RULES]
+        self.queued: list[set[int]] = [set() for _ in PLAN_RULES]
+        self.pushes = 0  # candidates queued (the propagation's work)
+        self.cluster = ClusterPaths(topo.links_of, topo.revolute, self.placed, self.known)
 
     def copy(self) -> PlanState:
-        s = PlanState(self.m, self.geom, self.topo)
+        s = PlanState.__new__(PlanState)
+        s.m, s.geom, s.topo = self.m, self.geom, self.topo
         s.placed, s.known, s.count = set(self.placed), set(self.known), dict(self.count)
         s.ones = dict(self.ones)
         s.steps, s.unknowns, s.allowed = list(self.steps), self.unknowns, self.allowed
-        s.queues = {k: list(v) for k, v in self.queues.items()}
-        s.queued = {k: set(v) for k, v in self.queued.items()}
+        s.opened = self.opened
+        s.queues = [list(v) for v in self.queues]
+        s.queued = [set(v) for v in self.queued]
+        s.pushes = 0
+        s.cluster = ClusterPaths(self.topo.links_of, self.topo.revolute, s.placed, s.known)
         return s
 
     @property
@@ -290,35 +317,52 @@ class PlanState:
         return self.topo.drivers
 
     # -- queues --
-    def _push(self, subject: Subject, index: int) -> None:
-        for r in PLAN_RULES:
-            if r.subject == subject and index not in self.queued[r.name]:
-                self.queued[r.name].add(index)
-                heapq.heappush(self.queues[r.name], index)
+    def _push(self, rules: tuple[int, ...], index: int) -> None:
+        for r in rules:
+            queued = self.queued[r]
+            if index not in queued:
+                queued.add(index)
+                heapq.heappush(self.queues[r], index)
+                self.pushes += 1
 
     def push_link(self, link: str) -> None:
-        self._push("link", self.topo.link_index[link])
+        self._push(self.topo.rules_of["link"], self.topo.link_index[link])
 
     def push_joints_of(self, link: str) -> None:
+        key, rules_of = self.topo.joint_key, self.topo.rules_of
         for j in self.m.link_joints[link]:
-            self._push(self.topo.kind[j], self.topo.joint_index[j])  # type: ignore[arg-type]
+            kind, index = key[j]
+            self._push(rules_of[kind], index)
 
     def open(self, allowed: set[str] | None) -> None:
-        """Allow placing ``allowed`` links (None: all) and queue what they touch."""
+        """Allow placing ``allowed`` links (None: all) and queue what they touch.
+
+        Only links newly allowed are queued: a candidate examined before failed for
+        want of a link it may place, or of something that queues it when it changes.
+        """
         self.allowed = allowed
-        for link in self.m.links if allowed is None else sorted(allowed):
+        before = self.opened
+        fresh: list[str] = []
+        if before is None:
+            pass  # every link was allowed: nothing is new
+        elif allowed is None:
+            fresh = [x for x in self.m.links if x not in before]
+        else:
+            fresh = [x for x in allowed if x not in before]
+        self.opened = allowed
+        for link in fresh:
             if link not in self.placed:
                 self.push_link(link)
                 self.push_joints_of(link)
 
-    def pop(self, rule: PlanRule) -> str | None:
-        """The next candidate of ``rule`` (smallest file index), or None."""
-        heap = self.queues[rule.name]
+    def pop(self, rule: int) -> int | None:
+        """The next candidate index of rule ``rule`` (smallest file index), or None."""
+        heap = self.queues[rule]
         if not heap:
             return None
         i = heapq.heappop(heap)
-        self.queued[rule.name].discard(i)
-        return self.m.links[i] if rule.subject == "link" else self.m.joints[i].id
+        self.queued[rule].discard(i)
+        return i
 
     # -- state --
     def free(self, link: str) -> bool:
@@ -327,12 +371,12 @@ class PlanState:
 
     def known_on(self, link: str) -> list[str]:
         """Known revolute centres of ``link`` (file order; they are distinct points)."""
-        return [j for j in self.topo.revolute[link] if j in self.known]
+        known = self.known
+        return [j for j in self.topo.revolute[link] if j in known]
 
     def coincide(self, a: str, b: str) -> bool:
-        from mjstruct.kinematics.tolerances import COINCIDE
-
-        return abs(self.geom.centres[a] - self.geom.centres[b]) <= COINCIDE * self.geom.scale
+        c = self.geom.centres
+        return abs(c[a] - c[b]) <= COINCIDE * self.geom.scale
 
     def place(self, link: str, step: Step, used: tuple[str, ...] | list[str]) -> None:
         """Mark ``link`` placed by ``step``, which used the joints ``used``.
@@ -341,6 +385,8 @@ class PlanState:
         placed, become closure equations (close-point, close-slide).
         """
         self.placed.add(link)
+        if self.cluster.trees:
+            self.cluster.link_placed(link)
         for j in self.topo.revolute[link]:
             if j in self.known and j not in used:
                 other = next(x for x in self.m.joint(j).links if x in self.placed and x != link)
@@ -359,15 +405,18 @@ class PlanState:
         if joint in self.known:
             return
         self.known.add(joint)
-        for x in self.m.joint(joint).links:
-            self.count[x] += 1
-            if self.count[x] <= 2:
-                step = 1 if self.count[x] == 1 else -1
-                for j in self.m.link_joints[x]:
-                    self.ones[j] += step
-            if self.count[x] == 1:
+        if self.cluster.trees:
+            self.cluster.joint_known(joint)
+        count, ones, link_joints = self.count, self.ones, self.m.link_joints
+        for x in self.topo.links_of[joint]:
+            c = count[x] = count[x] + 1
+            if c == 1:
+                for j in link_joints[x]:
+                    ones[j] += 1
                 self.push_joints_of(x)
-            elif self.count[x] == 2:
+            elif c == 2:
+                for j in link_joints[x]:
+                    ones[j] -= 1
                 self.push_link(x)
 
     def add(self, step: Step) -> Step:
@@ -375,64 +424,9 @@ class PlanState:
         return step
 
     # -- triangle counts along the placed cluster --
-    def _distances(self, a: str, targets: set[str], full: bool) -> dict[str, tuple[int, int]]:
-        """Edges and number of shortest paths from joint ``a`` to ``targets``.
-
-        Breadth first over known centres and placed links; stops after the layer where
-        the first target is met unless ``full`` (then: every reachable target).
-        """
-        if a not in self.known:
-            return {}
-        if a in targets:
-            return {a: (0, 1)}
-        # joints and links kept apart (no tuple per node): the same breadth-first
-        # counts, a smaller constant on multiple joints of many links
-        placed, known = self.placed, self.known
-        links_of, revolute = self.topo.links_of, self.topo.revolute
-        dj: dict[str, int] = {a: 0}
-        sj: dict[str, int] = {a: 1}
-        dl: dict[str, int] = {}
-        sl: dict[str, int] = {}
-        frontier = [a]
-        found: dict[str, tuple[int, int]] = {}
-        d = 0
-        while frontier:
-            nxt: list[str] = []
-            if d % 2 == 0:  # joints -> placed links
-                for node in frontier:
-                    w = sj[node]
-                    for x in links_of[node]:
-                        if x in placed:
-                            if x not in dl:
-                                dl[x] = d + 1
-                                sl[x] = w
-                                nxt.append(x)
-                            elif dl[x] == d + 1:
-                                sl[x] += w
-            else:  # links -> known revolute centres
-                for node in frontier:
-                    w = sl[node]
-                    for j in revolute[node]:
-                        if j in known:
-                            if j not in dj:
-                                dj[j] = d + 1
-                                sj[j] = w
-                                nxt.append(j)
-                            elif dj[j] == d + 1:
-                                sj[j] += w
-            d += 1
-            if d % 2 == 0:
-                for j in nxt:
-                    if j in targets:
-                        found[j] = (d, sj[j])
-            if found and (not full or len(found) == len(targets)):
-                break
-            frontier = nxt
-        return found
-
     def paths(self, a: str, b: str) -> tuple[int, int]:
         """(triangles along one shortest path a–b, triangles along the other ones)."""
-        hit = self._distances(a, {b}, full=False).get(b)
+        hit = self.cluster.distances(a, {b}, full=False).get(b)
         if hit is None:
             return 0, 0
         each = max(0, hit[0] // 2 - 1)
@@ -442,10 +436,10 @@ class PlanState:
         """min over targets of (1 + triangles to reach it); an unreachable one counts 1."""
         if not targets:
             return 1
-        found = self._distances(a, set(targets), full=False)
+        found = self.cluster.distances(a, set(targets), full=False)
         best = min((max(0, d // 2 - 1) for d, _ in found.values()), default=0)
         if best == 0 or len(found) == len(set(targets)):
             return 1 + best
         # farther than one triangle: an unreachable target would give 1
-        everything = self._distances(a, set(targets), full=True)
+        everything = self.cluster.distances(a, set(targets), full=True)
         return 1 if len(everything) < len(set(targets)) else 1 + best

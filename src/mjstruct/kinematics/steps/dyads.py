@@ -182,14 +182,27 @@ def line_diagonal(st: PlanState, joint: str, base: str) -> int:
     return st.nearest(joint, on_base)
 
 
+def _free_links(st: PlanState, jid: str) -> list[str]:
+    """The links of joint ``jid`` that may be placed now, in the joint's order."""
+    links, allowed = st.topo.links_of[jid], st.allowed
+    if allowed is not None and len(allowed) < len(links):
+        # a multiple joint of many links met while one small group is open
+        pos = st.topo.position(jid)
+        free = [x for x in allowed if x in pos and x not in st.placed]
+        return sorted(free, key=pos.__getitem__)
+    placed = st.placed
+    if allowed is None:
+        return [x for x in links if x not in placed]
+    return [x for x in links if x not in placed and x in allowed]
+
+
 def _plan_revolute_dyad(st: PlanState, jid: str) -> bool:
     """At an unknown revolute joint: a dyad RRR, else a dyad RRP (in file order)."""
     m = st.m
     # every branch below needs a link with exactly one known centre at the joint
     if jid in st.known or not st.ones[jid]:
         return False
-    j = m.joint(jid)
-    cands = [x for x in j.links if st.free(x)]
+    cands = _free_links(st, jid)
     for ib, b in enumerate(cands):
         kb = st.known_on(b)
         if len(kb) != 1 or st.coincide(kb[0], jid):
@@ -207,8 +220,8 @@ def _plan_revolute_dyad(st: PlanState, jid: str) -> bool:
             st.place(c, step, (kc[0], jid))
             return True
         # RRP: b has a known centre, its partner c slides on a placed link
-        for c in j.links:
-            if c == b or not st.free(c) or st.count[c]:
+        for c in cands:
+            if c == b or st.count[c]:
                 continue
             guides = [
                 g

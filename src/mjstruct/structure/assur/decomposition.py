@@ -31,8 +31,8 @@ References
    linkages via pebble game algorithm", Proc. ASME IDETC/CIE 2011, Washington, DC,
    2011. [Sljoka et al. 2011] in docs/references.md.
 .. [4] R. E. Tarjan, "Depth-first search and linear graph algorithms", SIAM Journal
-   on Computing, vol. 1, no. 2, pp. 146–160, 1972 (strongly connected components,
-   through networkx). [Tarjan 1972] in docs/references.md.
+   on Computing, vol. 1, no. 2, pp. 146–160, 1972 (strongly connected components).
+   [Tarjan 1972] in docs/references.md.
 
 Examples
 --------
@@ -144,25 +144,33 @@ def _pinned_groups(
     game.pin(0)
     if rejected or any(game.pebbles[1:]):
         raise RuntimeError("a sub-chain is not isostatic although the whole is")
-    placed = {pinned}
     reference = model.bodies[pinned].root
     joints_of: dict[int, list[int]] = {}  # body -> indices of the joints touching it
     for k, (_, touched) in enumerate(joints):
         for body in touched:
             joints_of.setdefault(body, []).append(k)
+    # per joint: how many of its bodies are placed (an MJ of many bodies is not
+    # rescanned for every group that meets it)
+    placed_at = [0] * len(joints)
+    for k in joints_of.get(pinned, ()):
+        placed_at[k] += 1
     for scc in _dependency_order(game.out, skip=0):
         mine = [order[v] for v in scc if v < len(order)]
         if not mine:
             continue  # a pin centre fixed on placed bodies: nothing to place
-        mine_set = set(mine)
+        at_of: dict[int, list[int]] = {}  # joint -> the group's bodies on it
+        for body in mine:
+            for k in joints_of.get(body, ()):
+                at_of.setdefault(k, []).append(body)
         external, internal, pins, pairs = [], [], 0, 0
         internal_bodies = []
-        near = sorted({k for body in mine for k in joints_of.get(body, ())})
-        for j, touched in (joints[k] for k in near):
-            at = [b for b in touched if b in mine_set]
-            if not at:
-                continue
-            if any(b in placed for b in touched):
+        for k in sorted(at_of):
+            j, touched = joints[k]
+            at = at_of[k]
+            if len(at) > 1:  # in the joint's order
+                mine_set = set(at)
+                at = [b for b in touched if b in mine_set]
+            if placed_at[k]:
                 external.append(j.id)
                 pins += len(at)
             elif len(at) >= 2:
@@ -186,7 +194,8 @@ def _pinned_groups(
                 pairs=pins + pairs,
             )
         )
-        placed |= mine_set
+        for k in at_of:
+            placed_at[k] += len(at_of[k])
     return groups
 
 
@@ -213,47 +222,61 @@ def _dependency_order(out: Sequence[Sequence[int]], skip: int) -> list[list[int]
     """Strongly connected components, dependencies (sinks) first; vertex ``skip`` ignored.
 
     The order is fixed here, not by a library's iteration order: components in the
-    order a depth-first search completes them (:func:`_postorder`; a component is
-    complete when the last of its vertices is), which puts every component after
-    those it depends on.  Each component's vertices are listed in increasing order.
+    order a depth-first search completes them (roots in increasing order, successors
+    in the order of ``out``; a component is complete when the last of its vertices
+    is), which puts every component after those it depends on.  Tarjan's algorithm
+    on that search emits each component exactly then: when its first vertex, the
+    last of them to complete, does.  Each component's vertices are listed in
+    increasing order.
+
+    >>> _dependency_order([[1], [2], [1], [0, 4], [3], []], skip=5)
+    [[1, 2], [0], [3, 4]]
     """
-    import networkx as nx  # imported here: the structural report does without it
-
-    g = nx.DiGraph()
-    g.add_nodes_from(v for v in range(len(out)) if v != skip)
-    g.add_edges_from(
-        (v, w) for v, heads in enumerate(out) if v != skip for w in heads if w != skip
-    )
-    done = {v: k for k, v in enumerate(_postorder(out, skip))}
-    components = [sorted(c) for c in nx.strongly_connected_components(g)]
-    return sorted(components, key=lambda c: max(done[v] for v in c))
-
-
-def _postorder(out: Sequence[Sequence[int]], skip: int) -> list[int]:
-    """Vertices in the order a depth-first search completes them: roots in increasing
-    order, successors in the order of ``out``; vertex ``skip`` ignored.
-
-    >>> _postorder([[1], [2], [1], []], skip=3)
-    [2, 1, 0]
-    """
-    done: list[int] = []
-    seen: set[int] = set()
-    for root in range(len(out)):
-        if root == skip or root in seen:
+    n = len(out)
+    index = [-1] * n
+    low = [0] * n
+    on_stack = [False] * n
+    stack: list[int] = []
+    found: list[list[int]] = []
+    count = 0
+    for root in range(n):
+        if root == skip or index[root] >= 0:
             continue
-        seen.add(root)
-        stack = [(root, iter(out[root]))]
-        while stack:
-            v, heads = stack[-1]
+        index[root] = low[root] = count
+        count += 1
+        stack.append(root)
+        on_stack[root] = True
+        work = [(root, iter(out[root]))]
+        while work:
+            v, heads = work[-1]
             for w in heads:
-                if w != skip and w not in seen:
-                    seen.add(w)
-                    stack.append((w, iter(out[w])))
+                if w == skip:
+                    continue
+                if index[w] < 0:
+                    index[w] = low[w] = count
+                    count += 1
+                    stack.append(w)
+                    on_stack[w] = True
+                    work.append((w, iter(out[w])))
                     break
+                if on_stack[w] and index[w] < low[v]:
+                    low[v] = index[w]
             else:
-                stack.pop()
-                done.append(v)
-    return done
+                work.pop()
+                if work:
+                    u = work[-1][0]
+                    if low[v] < low[u]:
+                        low[u] = low[v]
+                if low[v] == index[v]:
+                    comp = []
+                    while True:
+                        w = stack.pop()
+                        on_stack[w] = False
+                        comp.append(w)
+                        if w == v:
+                            break
+                    found.append(sorted(comp))
+    return found
 
 
 def assur_groups(m: Mechanism, drivers: Sequence[str] | None = None) -> Decomposition:
