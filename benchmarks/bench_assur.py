@@ -24,7 +24,7 @@ from mjstruct.structure.assur import assur_groups
 from mjstruct.structure.drivers import validate_drivers
 from mjstruct.structure.generic_mobility import generic_mobility
 from mjstruct.structure.pebble import pebble_rank
-from mjstruct.testing import random_mechanism
+from mjstruct.testing import random_mechanism, shared_crank
 from timing import median_time
 
 
@@ -120,6 +120,14 @@ def main(argv: list[str] | None = None) -> int:
     line("assur_groups, same chain", t_assur, None, f"{len(d.groups)} groups")
     t, _ = median_time(lambda: validate_drivers(m1000), 5)
     line("  its driver check (validate_drivers)", t, None, f"{t / t_assur:.0%} of it")
+    crank = shared_crank(499)  # one multiple joint of 500 links, a dyad on each coupler
+    t, d = median_time(lambda: assur_groups(crank), 5)
+    line(
+        f"assur_groups, {len(d.groups)} four-bars on one crank ({crank.n} links)",
+        t,
+        None,
+        f"{t / crank.n * 1e6:.1f} us per link",
+    )
     mg = random_graph_chain(1000, 1499)
     t, r = median_time(lambda: pebble_rank(mg), 7)
     g = generic_mobility(mg)

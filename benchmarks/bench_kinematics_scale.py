@@ -5,7 +5,8 @@ of the crank and all k couplers; n = 2 + 2k links).  For each size, in a fresh
 process (so that its peak resident memory is its own): planning alone, and the
 default ``kinematic_analysis`` (checks on) and the one with ``checks=False`` at 3600
 frames.  Prints medians, time per link, the log-log slope between consecutive sizes
-and the peak RSS.
+(of the checked analysis, and of planning: near 1 when it stays linear) and the peak
+RSS.
 
 Run: ``python benchmarks/bench_kinematics_scale.py [--frames N] [--sizes 4,18,...]
 [--plot docs/img/kin-scaling.png]``; ``--plot`` draws time and peak memory against
@@ -74,7 +75,7 @@ def main() -> None:
     print(
         f"{'links':>6} {'plan ms':>9} {'no checks ms':>13} {'checks ms':>10} "
         f"{'checks us/link':>15} {'slope':>6} {'peak MB':>8} {'est. MB':>8} {'valid':>6} "
-        f"{'det err':>8}"
+        f"{'det err':>8} {'plan us/link':>13} {'plan slope':>11}"
     )
     prev = None
     rows = []
@@ -85,16 +86,20 @@ def main() -> None:
         if done.returncode:
             sys.exit(f"size {n} failed:\n{done.stderr}")
         got = json.loads(done.stdout)
-        slope = (
-            math.log(got["checks"] / prev["checks"]) / math.log(got["links"] / prev["links"])
+        slope, plan_slope = (
+            (
+                math.log(got[key] / prev[key]) / math.log(got["links"] / prev["links"])
+                for key in ("checks", "plan")
+            )
             if prev
-            else float("nan")
+            else (float("nan"), float("nan"))
         )
         print(
             f"{int(got['links']):6d} {got['plan'] * 1e3:9.1f} {got['no_checks'] * 1e3:13.1f} "
             f"{got['checks'] * 1e3:10.1f} {got['checks'] / got['links'] * 1e6:15.0f} "
             f"{slope:6.2f} {got['rss_mb']:8.0f} {got['estimate_mb']:8.0f} {got['valid']:6.2f} "
-            f"{got['factor_error']:8.1e}"
+            f"{got['factor_error']:8.1e} {got['plan'] / got['links'] * 1e6:13.1f} "
+            f"{plan_slope:11.2f}"
         )
         prev = got
         rows.append(got)

@@ -137,3 +137,27 @@ def test_cli_slider_crank_o1_a_is_over_constrained_not_under(capsys):
     assert main(["assur", str(example_path("slider-crank")), "--drivers", "O1,A"]) == 2
     err = capsys.readouterr().err
     assert "over-constrained" in err and "under" not in err
+
+
+@pytest.mark.parametrize("mobility", [None, 0, 1, 2])
+@pytest.mark.parametrize("name", ["four-bar", "five-bar", "slider-crank", "watt"])
+def test_one_game_judged_as_validate_drivers_judges(name, mobility):
+    """check_balance on a played game refuses and accepts what validate_drivers does
+    (the planner plays the game once for its check and for the decomposition)."""
+    import itertools
+
+    from mjstruct.structure.drivers import check_balance
+
+    m = example(name)
+    ids = [j.id for j in m.joints]
+    for k in range(3):
+        for drivers in itertools.combinations(ids, k):
+            try:
+                expected: object = validate_drivers(m, drivers, mobility=mobility)
+            except MechanismError as e:
+                expected = str(e)
+            try:
+                got: object = check_balance(driver_balance(m, drivers), mobility=mobility).drivers
+            except MechanismError as e:
+                got = str(e)
+            assert got == expected

@@ -29,6 +29,7 @@ Examples
 from __future__ import annotations
 
 import cmath
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -58,6 +59,8 @@ def diameter(points: list[complex]) -> float:
     >>> diameter([0j, 1 + 0j, 0.5 + 0.2j, 1j])
     1.4142135623730951
     """
+    if len(points) <= 12:  # a few points: every pair, cheaper than the hull
+        return max((abs(a - b) for a, b in itertools.combinations(points, 2)), default=0.0)
     pts = sorted(set(points), key=lambda z: (z.real, z.imag))
     if len(pts) < 3:
         return max((abs(a - b) for a in pts for b in pts), default=0.0)
@@ -126,8 +129,7 @@ def first_close_pair(
     >>> first_close_pair(["a", "b", "c"], {"a": 0j, "b": 1 + 0j, "c": 1 + 1e-13j}, 1e-12)
     ('b', 'c')
     """
-    finite = all(cmath.isfinite(centres[a]) for a in ids)
-    if len(ids) < 16 or not finite:
+    if len(ids) < 16 or not all(cmath.isfinite(centres[a]) for a in ids):
         for i, a in enumerate(ids):
             for b in ids[i + 1 :]:
                 if abs(centres[a] - centres[b]) <= tol:
@@ -209,26 +211,22 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
     if scale <= 0.0:
         raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
     tol = COINCIDE * scale
-    index = {j.id: k for k, j in enumerate(m.joints)}
-    revolute_of = {
-        link: [jid for jid in m.link_joints[link] if jid not in axes] for link in m.links
-    }
-    for link in m.links:
-        close = first_close_pair(revolute_of[link], centres, tol)
-        if close is not None:
-            ja, jb = close
-            raise MechanismError(
-                f"joints[{index[jb]}].at: joints {ja!r} and {jb!r} of link {link!r} are "
-                "at one point (a zero-length side; join them as one multiple joint)"
-            )
-
     char_angle: dict[str, float] = {}
     char_joints: dict[str, tuple[str, ...]] = {}
+    link_joints = m.link_joints
     for link in m.links:
+        revolute = [jid for jid in link_joints[link] if jid not in axes]
+        close = first_close_pair(revolute, centres, tol) if len(revolute) > 1 else None
+        if close is not None:
+            ja, jb = close
+            index = next(k for k, j in enumerate(m.joints) if j.id == jb)
+            raise MechanismError(
+                f"joints[{index}].at: joints {ja!r} and {jb!r} of link {link!r} are "
+                "at one point (a zero-length side; join them as one multiple joint)"
+            )
         if link == m.frame:
             char_angle[link], char_joints[link] = 0.0, ()
             continue
-        revolute = revolute_of[link]
         pair = next(
             (
                 (a, b)
@@ -242,7 +240,7 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
             char_angle[link] = cmath.phase(centres[pair[1]] - centres[pair[0]])
             char_joints[link] = pair
             continue
-        slide = [jid for jid in m.link_joints[link] if jid in axes]
+        slide = [jid for jid in link_joints[link] if jid in axes]
         char_angle[link] = cmath.phase(axes[slide[0]]) if slide else 0.0
         char_joints[link] = ()
 

@@ -43,6 +43,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from heapq import heappop
 
 import numpy as np
 
@@ -112,23 +113,36 @@ class Plan:
 
 
 def _propagate(st: PlanState, allowed: set[str] | None = None) -> None:
-    """Apply the planning rules until nothing more can be placed."""
+    """Apply the planning rules until nothing more can be placed.
+
+    Rules in priority order; each pops its candidates (smallest file index first)
+    until one applies, and then the search restarts from the first rule.
+    """
     st.open(allowed)
     links, joints = st.m.links, st.topo.joint_ids
+    rules = [
+        (
+            rule.apply,
+            None if rule.subject == "drivers" else links if rule.subject == "link" else joints,
+            st.queues[k],
+            st.queued[k],
+        )
+        for k, rule in enumerate(PLAN_RULES)
+    ]
     while True:
-        for k, rule in enumerate(PLAN_RULES):
-            if rule.subject == "drivers":
-                if rule.apply(st, ""):
+        for apply, names, heap, waiting in rules:
+            if names is None:  # the drivers: no candidates
+                if apply(st, ""):
                     break
                 continue
-            names = links if rule.subject == "link" else joints
-            found = False
-            while (i := st.pop(k)) is not None:
-                if rule.apply(st, names[i]):
-                    found = True
+            while heap:
+                i = heappop(heap)
+                waiting.discard(i)
+                if apply(st, names[i]):
                     break
-            if found:
-                break
+            else:
+                continue
+            break
         else:
             return
 

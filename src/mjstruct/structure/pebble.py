@@ -137,10 +137,12 @@ class PebbleGame:
         """Insert edge uv; True when independent (accepted), False when redundant."""
         if u == v:
             raise ValueError("a loop edge carries no constraint")
-        if self.gather(u, v, TRIVIAL + 1) <= TRIVIAL:
+        pebbles = self.pebbles
+        # enough pebbles already on u and v: no search (gather would return at once)
+        if pebbles[u] + pebbles[v] <= TRIVIAL and self.gather(u, v, TRIVIAL + 1) <= TRIVIAL:
             return False
-        tail, head = (u, v) if self.pebbles[u] > 0 else (v, u)
-        self.pebbles[tail] -= 1
+        tail, head = (u, v) if pebbles[u] > 0 else (v, u)
+        pebbles[tail] -= 1
         self.out[tail].append(head)
         self.rank += 1
         self.free_pebbles -= 1

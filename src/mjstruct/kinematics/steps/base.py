@@ -23,6 +23,7 @@ from __future__ import annotations
 import heapq
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, Literal
 
 import numpy as np
@@ -216,6 +217,9 @@ class PlanRule:
     subject: Subject
     priority: int
     apply: Callable[[PlanState, str], bool]
+    #: whether the rule can ever apply to a subject, from the mechanism alone (None:
+    #: to any); a subject it cannot is never queued for it
+    relevant: Callable[[Topology, str], bool] | None = None
 
 
 #: planning rules in priority order; each family module registers its rules on import
@@ -236,30 +240,55 @@ class Topology:
         self.mechanism = m
         self.drivers = drivers
         self.driver_set = frozenset(drivers)
-        self.joint_index = {j.id: k for k, j in enumerate(m.joints)}
         self.joint_ids = tuple(j.id for j in m.joints)
-        self.link_index = {x: k for k, x in enumerate(m.links)}
-        self.kind = {j.id: j.kind for j in m.joints}
-        kind, link_joints = self.kind, m.link_joints
-        self.revolute = {x: tuple(j for j in link_joints[x] if kind[j] == "R") for x in m.links}
+        self.links_of: dict[str, tuple[str, ...]] = {j.id: j.links for j in m.joints}
+        prismatic = {j.id for j in m.joints if j.kind == "P"}
+        link_joints = m.link_joints
+        self.revolute: dict[str, tuple[str, ...]] = {}
         # prismatic joints that are guides (not drivers), per link
-        self.guides = {
-            x: tuple(j for j in link_joints[x] if kind[j] == "P" and j not in drivers)
-            for x in m.links
-        }
-        # links of each joint, and how many of them have a guide: a rule that needs
-        # two guided links at a joint skips a multiple joint of unguided ones at once
-        self.links_of = {j.id: j.links for j in m.joints}
+        self.guides: dict[str, tuple[str, ...]] = {}
+        for x in m.links:
+            js = link_joints[x]
+            if prismatic:
+                self.revolute[x] = tuple(j for j in js if j not in prismatic)
+                self.guides[x] = tuple(j for j in js if j in prismatic and j not in drivers)
+            else:
+                self.revolute[x], self.guides[x] = js, ()
+        # how many links of each joint have a guide: a rule that needs two guided
+        # links at a joint skips a multiple joint of unguided ones at once
         guides = self.guides
         self.guided = {j.id: sum(1 for x in j.links if guides[x]) for j in m.joints}
-        # each joint's (subject, index) for the candidate queues
-        self.joint_key = {j.id: (j.kind, k) for k, j in enumerate(m.joints)}
-        # the rules (positions in PLAN_RULES) that examine each kind of subject
-        self.rules_of: dict[str, tuple[int, ...]] = {
-            subject: tuple(k for k, r in enumerate(PLAN_RULES) if r.subject == subject)
-            for subject in ("link", "R", "P")
+        # the drivers as (index, joint, kind, first link, second link)
+        self.driver_links = tuple(
+            (i, d, m.joint(d).kind, m.joint(d).links[0], m.joint(d).links[1])
+            for i, d in enumerate(drivers)
+        )
+        # what a link queues when its neighbourhood changes: its (index, rules), and
+        # (index, rules, id, revolute, links) of each of its joints; the rules are the
+        # positions in PLAN_RULES of those that can ever apply to the subject
+        by_subject: dict[str, list[tuple[int, Callable[[Topology, str], bool] | None]]] = {
+            "link": [],
+            "R": [],
+            "P": [],
         }
+        for k, rule in enumerate(PLAN_RULES):
+            if rule.subject != "drivers":
+                by_subject[rule.subject].append((k, rule.relevant))
+        key: dict[str, tuple[int, tuple[int, ...], str, bool, tuple[str, ...]]] = {}
+        for k, j in enumerate(m.joints):
+            rules = tuple(r for r, ok in by_subject[j.kind] if ok is None or ok(self, j.id))
+            key[j.id] = (k, rules, j.id, j.kind == "R", j.links)
+        self.link_key: dict[str, tuple[int, tuple[int, ...]]] = {}
+        for k, x in enumerate(m.links):
+            rules = tuple(r for r, ok in by_subject["link"] if ok is None or ok(self, x))
+            self.link_key[x] = (k, rules)
+        self.joint_keys = {x: tuple(key[j] for j in link_joints[x]) for x in m.links}
         self._positions: dict[str, dict[str, int]] = {}
+
+    @cached_property
+    def joint_index(self) -> dict[str, int]:
+        """Joint id -> its index in the file (for messages)."""
+        return {j.id: k for k, j in enumerate(self.mechanism.joints)}
 
     def position(self, joint: str) -> dict[str, int]:
         """Link -> its place in the joint's list (for a joint of many links)."""
@@ -317,22 +346,32 @@ class PlanState:
         return self.topo.drivers
 
     # -- queues --
-    def _push(self, rules: tuple[int, ...], index: int) -> None:
+    # a candidate that can never apply again is not queued: a placed link (place), a
+    # known revolute joint (its dyads), a guide pair with a placed link (its dyads)
+    def push_link(self, link: str) -> None:
+        if link in self.placed:
+            return
+        index, rules = self.topo.link_key[link]
+        queues, queued = self.queues, self.queued
         for r in rules:
-            queued = self.queued[r]
-            if index not in queued:
-                queued.add(index)
-                heapq.heappush(self.queues[r], index)
+            if index not in queued[r]:
+                queued[r].add(index)
+                heapq.heappush(queues[r], index)
                 self.pushes += 1
 
-    def push_link(self, link: str) -> None:
-        self._push(self.topo.rules_of["link"], self.topo.link_index[link])
-
     def push_joints_of(self, link: str) -> None:
-        key, rules_of = self.topo.joint_key, self.topo.rules_of
-        for j in self.m.link_joints[link]:
-            kind, index = key[j]
-            self._push(rules_of[kind], index)
+        queues, queued, known, placed = self.queues, self.queued, self.known, self.placed
+        for index, rules, joint, revolute, links in self.topo.joint_keys[link]:
+            if revolute:
+                if joint in known:
+                    continue
+            elif links[0] in placed or links[1] in placed:
+                continue
+            for r in rules:
+                if index not in queued[r]:
+                    queued[r].add(index)
+                    heapq.heappush(queues[r], index)
+                    self.pushes += 1
 
     def open(self, allowed: set[str] | None) -> None:
         """Allow placing ``allowed`` links (None: all) and queue what they touch.
@@ -354,15 +393,6 @@ class PlanState:
             if link not in self.placed:
                 self.push_link(link)
                 self.push_joints_of(link)
-
-    def pop(self, rule: int) -> int | None:
-        """The next candidate index of rule ``rule`` (smallest file index), or None."""
-        heap = self.queues[rule]
-        if not heap:
-            return None
-        i = heapq.heappop(heap)
-        self.queued[rule].discard(i)
-        return i
 
     # -- state --
     def free(self, link: str) -> bool:

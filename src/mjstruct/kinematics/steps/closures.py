@@ -129,4 +129,5 @@ register(
 )
 
 
-register_rule(PlanRule("place", "link", 20, _plan_place))
+# a link is placed by two revolute centres: a link with fewer never is
+register_rule(PlanRule("place", "link", 20, _plan_place, lambda t, x: len(t.revolute[x]) > 1))

@@ -136,14 +136,14 @@ register(
 def _plan_drivers(st: PlanState, _: str) -> bool:
     """Every driver whose base is placed turns or slides its driven link into place."""
     progress = False
-    m = st.m
-    for i, d in enumerate(st.drivers):
-        j = m.joint(d)
-        a, b = j.links[0], j.links[1]
+    placed = st.placed
+    for i, d, kind, a, b in st.topo.driver_links:
+        if a not in placed and b not in placed:
+            continue
         for base, driven in ((a, b), (b, a)):
-            if base in st.placed and st.free(driven):
-                kind = "driver-P" if j.kind == "P" else "driver-R"
-                step = st.add(Step(kind, (driven,), joint=d, base=base, index=i))
+            if base in placed and st.free(driven):
+                name = "driver-P" if kind == "P" else "driver-R"
+                step = st.add(Step(name, (driven,), joint=d, base=base, index=i))
                 st.place(driven, step, (d,))
                 progress = True
     return progress

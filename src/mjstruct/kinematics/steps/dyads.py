@@ -263,4 +263,5 @@ def _plan_rpr(st: PlanState, jid: str) -> bool:
 
 
 register_rule(PlanRule("revolute dyads", "R", 30, _plan_revolute_dyad))
-register_rule(PlanRule("RPR", "P", 40, _plan_rpr))
+# a driven slide is no guide pair of a dyad
+register_rule(PlanRule("RPR", "P", 40, _plan_rpr, lambda t, j: j not in t.driver_set))

@@ -187,5 +187,6 @@ def _plan_rpp(st: PlanState, jid: str) -> bool:
     return False
 
 
-register_rule(PlanRule("PRP", "R", 50, _plan_prp))
-register_rule(PlanRule("RPP", "P", 60, _plan_rpp))
+# a PRP needs two guided links at its joint; a driven slide is no guide pair of a dyad
+register_rule(PlanRule("PRP", "R", 50, _plan_prp, lambda t, j: t.guided[j] > 1))
+register_rule(PlanRule("RPP", "P", 60, _plan_rpp, lambda t, j: j not in t.driver_set))

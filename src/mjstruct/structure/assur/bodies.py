@@ -46,13 +46,16 @@ class BodyModel:
     def __init__(self, m: Mechanism, drivers: Sequence[str]) -> None:
         if m.frame is None:
             raise MechanismError("frame: the decomposition needs a frame link")
-        parent = {x: x for x in m.links}
+        # driven joints weld their first two links: union-find over those pairs only
+        parent: dict[str, str] = {}
 
         def find(x: str) -> str:
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
+            root = x
+            while root in parent:
+                root = parent[root]
+            while x != root:  # path compression
+                parent[x], x = root, parent[x]
+            return root
 
         self.initial: list[tuple[str, str, str]] = []
         driven: set[str] = set()
@@ -60,10 +63,12 @@ class BodyModel:
             a, b = m.joint(d).links[:2]
             self.initial.append((d, a, b))
             driven.add(b)
-            parent[find(b)] = find(a)
+            ra, rb = find(a), find(b)
+            if ra != rb:
+                parent[rb] = ra
         groups: dict[str, list[str]] = {}
         for x in m.links:
-            groups.setdefault(find(x), []).append(x)
+            groups.setdefault(find(x) if parent else x, []).append(x)
         self.bodies: list[Body] = []
         self.body_of: dict[str, int] = {}
         for members in groups.values():
@@ -76,8 +81,14 @@ class BodyModel:
             self.bodies.append(Body(tuple(members), root))
         self.frame_body = self.body_of[m.frame]
         self.joints: list[LevelJoint] = []
+        body_of = self.body_of
         for j in m.joints:
-            touched = list(dict.fromkeys(self.body_of[x] for x in j.links))
+            if len(j.links) == 2:
+                u, v = body_of[j.links[0]], body_of[j.links[1]]
+                if u != v:
+                    self.joints.append((j, [u, v]))
+                continue
+            touched = list(dict.fromkeys(body_of[x] for x in j.links))
             if len(touched) >= 2:
                 self.joints.append((j, touched))
         self.order = {j.id: k for k, j in enumerate(m.joints)}

@@ -179,16 +179,19 @@ def _pinned_groups(
                 pairs += len(at) - 1
         bodies = sorted(mine, key=lambda b: link_key(model.bodies[b].root))
         klass = group_class(bodies, internal_bodies)
-        ids = sorted(external + internal, key=model.order.__getitem__)
+        where = model.order.__getitem__
+        external.sort(key=where)
+        internal.sort(key=where)
         groups.append(
             AssurGroup(
-                links=tuple(sorted((model.bodies[b].root for b in bodies), key=link_key)),
-                joints=tuple(ids),
-                external=tuple(sorted(external, key=model.order.__getitem__)),
+                # the roots in the bodies' order: sorted by the same key (stable sort)
+                links=tuple(model.bodies[b].root for b in bodies),
+                joints=tuple(sorted(external + internal, key=where)),
+                external=tuple(external),
                 klass=klass,
                 order=pins,
                 reference=reference,
-                internal=tuple(sorted(internal, key=model.order.__getitem__)),
+                internal=tuple(internal),
                 bodies=tuple(model.bodies[b].links for b in bodies),
                 within=within,
                 pairs=pins + pairs,
