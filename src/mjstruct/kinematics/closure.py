@@ -42,7 +42,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -64,9 +64,12 @@ BoolArray = npt.NDArray[np.bool_]
 
 #: continuation stations solved together at most (one evaluation per Newton round);
 #: 1 is the one-station-at-a-time continuation
-MAX_BLOCK = 8
+MAX_BLOCK = 64
 #: evaluation rounds for a block of stations; a station still open is left to the next
-BLOCK_ROUNDS = 5
+BLOCK_ROUNDS = 8
+#: stations appended to the window per round
+WINDOW_STEP = 0.125
+REACH = 0.5
 
 
 @dataclass(frozen=True)
@@ -352,6 +355,339 @@ def _subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:
     return {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in K.items()}
 
 
+class _Path:
+    """The reference followed by the frames, parametrised by arc length in q.
+
+    Arc length is the max norm of the driver steps, so a direction's largest component
+    is 1; a position on a segment's end belongs to that segment (its direction, and the
+    assembly modes of the frame it ends at).  Consecutive segments of one direction
+    form a run (a sweep is one run).
+    """
+
+    def __init__(self, q_ref: FloatArray, q: FloatArray) -> None:
+        self.points = np.vstack([q_ref[None, :], q])
+        seg = np.abs(np.diff(self.points, axis=0)).max(axis=1)
+        self.arc = np.concatenate([[0.0], np.cumsum(seg)])
+        self.total = float(self.arc[-1])
+        self.moving = np.flatnonzero(seg > 0)
+        self.ends = self.arc[self.moving + 1]
+        self.frames = int(q.shape[0])
+        d = self.points[self.moving + 1] - self.points[self.moving]
+        self.dirs: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
+        # where each moving segment's run of one direction ends
+        starts = np.flatnonzero(np.r_[True, (self.dirs[1:] != self.dirs[:-1]).any(axis=1)])
+        stops = np.append(starts[1:], self.moving.size)
+        self.run_ends: FloatArray = np.repeat(self.ends[stops - 1], stops - starts)
+
+    def _segment(self, sv: FloatArray) -> npt.NDArray[np.intp]:
+        out: npt.NDArray[np.intp] = np.minimum(
+            np.searchsorted(self.ends, sv, side="left"), self.moving.size - 1
+        )
+        return out
+
+    def at(self, sv: FloatArray) -> FloatArray:
+        """Driver values at arc positions ``sv`` (positions × drivers)."""
+        cols = [np.interp(sv, self.arc, self.points[:, c]) for c in range(self.points.shape[1])]
+        return np.stack(cols, axis=1)
+
+    def directions(self, sv: FloatArray) -> FloatArray:
+        """dq/ds at arc positions ``sv`` (zero on a path that does not move)."""
+        if self.moving.size == 0:
+            return np.zeros((sv.size, self.points.shape[1]))
+        out: FloatArray = self.dirs[self._segment(sv)]
+        return out
+
+    def run_end(self, sv: float) -> float:
+        """The arc where the run through ``sv`` ends (one direction up to there)."""
+        if self.moving.size == 0:
+            return self.total
+        return float(self.run_ends[self._segment(np.array([sv]))[0]])
+
+    def frames_at(self, sv: FloatArray) -> npt.NDArray[np.intp]:
+        """The frame whose assembly modes a position takes (its segment's end frame)."""
+        out: npt.NDArray[np.intp] = np.clip(
+            np.searchsorted(self.arc, sv, side="right") - 2, 0, self.frames - 1
+        )
+        return out
+
+
+def _extrapolate(
+    s0: float,
+    t0: FloatArray,
+    d0: FloatArray,
+    s1: float,
+    t1: FloatArray,
+    d1: FloatArray,
+    s: FloatArray,
+) -> FloatArray:
+    """The cubic through (s0, t0) and (s1, t1) with slopes d0, d1 at positions ``s``."""
+    h = s1 - s0
+    u = ((s - s0) / h)[:, None]
+    u2 = u * u
+    u3 = u2 * u
+    out: FloatArray = (
+        (2 * u3 - 3 * u2 + 1) * t0
+        + (u3 - 2 * u2 + u) * h * d0
+        + (3 * u2 - 2 * u3) * t1
+        + (u3 - u2) * h * d1
+    )
+    return out
+
+
+def _disagreement(
+    t0: FloatArray, d0: FloatArray, t1: FloatArray, d1: FloatArray, ds: float
+) -> float:
+    """A station's change of the unknowns against the trapezoid of the tangent (1: limit).
+
+    The test that keeps the continuation on its branch: a hop to another root changes
+    the unknowns by much more than the tangent integrates to; above 1 the step was too
+    long (or hopped).
+    """
+    pred = 0.5 * (d0 + d1) * ds
+    return float(np.abs(t1 - t0 - pred).max() / (0.05 * np.abs(pred).max() + 1e-4))
+
+
+def _finite(d: FloatArray) -> FloatArray:
+    out: FloatArray = np.where(np.isfinite(d), d, 0.0)
+    return out
+
+
+def _continue(
+    model: KinematicModel,
+    path: _Path,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+    only: tuple[int, ...] | None,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None]:
+    """Stations along ``path`` from the reference: arc positions, unknowns and tangents.
+
+    Also returns the tangent at the reference (None: the reference does not close).
+    """
+    k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
+
+    def modes(sv: FloatArray) -> Modes | None:
+        return None if K is None else _subset_modes(K, path.frames_at(sv))
+
+    def station(sv: float, guess: FloatArray) -> tuple[FloatArray, FloatArray | None]:
+        s1 = np.array([sv])
+        dirn = path.directions(s1)[0]
+        return _station(model, path.at(s1)[0], guess, modes(s1), tol, maxiter, only, dirn)
+
+    _, D0 = station(0.0, np.zeros(k))
+    S, TT, DD = [0.0], [np.zeros(k)], [np.zeros(k) if D0 is None else _finite(D0)]
+
+    def guess(sv: FloatArray) -> FloatArray:
+        # the cubic through the last two stations, held beyond REACH
+        sv = np.minimum(sv, S[-1] + REACH)
+        if len(S) == 1:
+            line: FloatArray = TT[-1] + DD[-1] * (sv - S[-1])[:, None]
+            return line
+        return _extrapolate(S[-2], TT[-2], DD[-2], S[-1], TT[-1], DD[-1], sv)
+
+    win = _Window(k)
+    wdir, wend = np.zeros(0), total
+    s_last, step = 0.0, STATION_STEP
+    lost = False  # True while the stations do not close (outside the feasible range)
+    for _ in range(20000):
+        if s_last >= total:
+            break
+        if MAX_BLOCK > 1 and not lost:
+            if win.size == 0:
+                first = min(s_last + WINDOW_STEP, total)
+                wdir = path.directions(np.array([first]))[0]
+                wend = min(path.run_end(first), total)
+            tail = win.s[-1] if win.size else s_last
+            room = MAX_BLOCK - win.size
+            if room > 0 and tail < wend:
+                sv = np.minimum(tail + WINDOW_STEP * np.arange(1, room + 1), wend)
+                sv = sv[: int(np.searchsorted(sv, wend)) + 1]
+                win.append(sv, guess(sv), len(S))
+            R, J, Rd = closure_jets(model, path.at(win.s), win.t, modes(win.s), wdir, only)
+            assert Rd is not None
+            rmax = np.abs(R).max(axis=1)
+            finite = np.isfinite(R).all(axis=1)
+            # a trial that does not assemble or more than doubles max |R| is halved back
+            bad = (~finite | (rmax > 2.0 * win.rbase + 1e-300)) & (win.evals > 0)
+            e = rmax / scale
+            closed = (
+                ~bad & finite & ((e <= tol) | ((e >= 0.5 * win.err) & (e <= STALL_ERROR * tol)))
+            )
+            D = -_solve(J, Rd)
+            taken, front = 0, "open"
+            while taken < win.size and closed[taken]:
+                ds = float(win.s[taken]) - s_last
+                if _disagreement(TT[-1], DD[-1], win.t[taken], D[taken], ds) <= 1.0 or ds <= 1e-4:
+                    s_last = float(win.s[taken])
+                    S.append(s_last)
+                    TT.append(win.t[taken].copy())
+                    DD.append(_finite(D[taken]))
+                    taken += 1
+                    continue
+                front = "far"
+                break
+            # the others: halve the bad trials, Newton-step the rest.  A station that does
+            # not assemble from its guess, cannot be halved further or is still open after
+            # BLOCK_ROUNDS is stuck: guessed again once more stations are known (the front
+            # at once, and if stuck from such a guess it is sought alone)
+            stuck = ~closed & (
+                (~finite & (win.evals == 0))
+                | (bad & (win.halved >= 8))
+                | (win.evals + 1 >= BLOCK_ROUNDS)
+            )
+            stuck[:taken] = False
+            win.advance(R, J, rmax, e, bad, (np.arange(win.size) >= taken) & ~stuck)
+            win.drop_front(taken)
+            stuck = stuck[taken:]
+            renew = stuck & (win.guessed < len(S))
+            if front == "open" and win.size and stuck[0] and not renew[0]:
+                front = "failed"
+            if renew.any():
+                win.reset(renew, guess(win.s[renew]), len(S))
+            if front == "open":
+                continue
+            ds = float(win.s[0]) - s_last
+            if front == "far" and ds > 1e-4:
+                # closed, but too far along a curved path (or on another branch): a
+                # station halfway first, and a second refusal guesses it again
+                if win.refused[0]:
+                    win.reset(np.arange(win.size) == 0, guess(win.s[:1]), len(S))
+                win.refused[0] = True
+                mid = np.array([s_last + 0.5 * ds])
+                win.insert_front(mid, guess(mid), len(S))
+                continue
+            step = ds
+            win.drop_front(1)
+        # one station alone (after a failed window station, or outside the feasible range)
+        s_new = min(s_last + step, total)
+        ds = s_new - s_last
+        if len(S) > 1:  # cubic through the last two stations, extrapolated
+            g = _extrapolate(S[-2], TT[-2], DD[-2], S[-1], TT[-1], DD[-1], np.array([s_new]))[0]
+        else:
+            g = TT[-1] + DD[-1] * ds
+        tn, Dn = station(s_new, g)
+        # (after skipped stations the trapezoid spans only the last step: as before)
+        fine = Dn is not None and _disagreement(TT[-1], DD[-1], tn, Dn, ds) <= 1.0
+        if fine or step <= 1e-4 or (lost and Dn is None):
+            if Dn is not None:
+                S.append(s_new)
+                TT.append(tn)
+                DD.append(_finite(Dn))
+                lost = False
+                step = min(2.0 * step, STATION_STEP)
+            else:
+                # a station that does not close is skipped (reported later); past the
+                # edge of the feasible range stride on at the full step, not by crawling
+                lost = True
+                step = STATION_STEP
+                win.drop_front(win.size)
+            s_last = s_new
+            win.drop_front(int(np.searchsorted(win.s, s_last, side="right")))
+        else:
+            step *= 0.5
+    return np.array(S), np.array(TT), np.array(DD), D0
+
+
+class _Window:
+    """Continuation stations being solved together, in order along the path.
+
+    Per station: arc position ``s``, trial unknowns ``t``, the last accepted point
+    ``base`` with its Newton ``step`` and the fraction ``alpha`` of it tried (``halved``
+    times), max |R| ``rbase`` and error ``err`` at ``base``, evaluations ``evals``, and
+    whether it was ``refused`` once (closed too far from the last station).
+    """
+
+    def __init__(self, k: int) -> None:
+        self.s = np.zeros(0)
+        self.t = np.zeros((0, k))
+        self.base = np.zeros((0, k))
+        self.step = np.zeros((0, k))
+        self.alpha = np.zeros(0)
+        self.halved = np.zeros(0, np.int64)
+        self.rbase = np.zeros(0)
+        self.err = np.zeros(0)
+        self.evals = np.zeros(0, np.int64)
+        self.refused = np.zeros(0, bool)
+        self.guessed = np.zeros(0, np.int64)
+
+    @property
+    def size(self) -> int:
+        return int(self.s.size)
+
+    def _fresh(self, sv: FloatArray, g: FloatArray, known: int) -> dict[str, npt.NDArray[Any]]:
+        n = sv.size
+        return {
+            "s": sv,
+            "t": g,
+            "base": g.copy(),
+            "step": np.zeros_like(g),
+            "alpha": np.ones(n),
+            "halved": np.zeros(n, np.int64),
+            "rbase": np.full(n, np.inf),
+            "err": np.full(n, np.inf),
+            "evals": np.zeros(n, np.int64),
+            "refused": np.zeros(n, bool),
+            "guessed": np.full(n, known),
+        }
+
+    def append(self, sv: FloatArray, g: FloatArray, known: int) -> None:
+        for name, v in self._fresh(sv, g, known).items():
+            setattr(self, name, np.concatenate([getattr(self, name), v]))
+
+    def insert_front(self, sv: FloatArray, g: FloatArray, known: int) -> None:
+        for name, v in self._fresh(sv, g, known).items():
+            setattr(self, name, np.concatenate([v, getattr(self, name)]))
+
+    def drop_front(self, n: int) -> None:
+        if n:
+            for name in _Window._FIELDS:
+                setattr(self, name, getattr(self, name)[n:])
+
+    def reset(self, mask: BoolArray, g: FloatArray, known: int) -> None:
+        for name, v in self._fresh(self.s[mask], g, known).items():
+            if name != "s":
+                getattr(self, name)[mask] = v
+
+    def advance(
+        self,
+        R: FloatArray,
+        J: FloatArray,
+        rmax: FloatArray,
+        e: FloatArray,
+        bad: BoolArray,
+        live: BoolArray,
+    ) -> None:
+        """One round for the ``live`` stations: ``bad`` trials halved, Newton on the rest."""
+        b = bad & live
+        if b.any():
+            self.alpha[b] *= 0.5
+            self.halved[b] += 1
+            self.t[b] = self.base[b] + self.alpha[b, None] * self.step[b]
+        g = ~bad & live
+        if g.any():
+            self.err[g] = e[g]
+            self.base[g] = self.t[g]
+            self.rbase[g] = rmax[g]
+            self.evals[g] += 1
+            self.step[g] = _newton_step(J[g], R[g])
+            self.alpha[g], self.halved[g] = 1.0, 0
+            self.t[g] = self.base[g] + self.step[g]
+
+    _FIELDS = (
+        "s",
+        "t",
+        "base",
+        "step",
+        "alpha",
+        "halved",
+        "rbase",
+        "err",
+        "evals",
+        "refused",
+        "guessed",
+    )
+
+
 def close(
     model: KinematicModel,
     q: FloatArray,
@@ -375,151 +711,17 @@ def close(
     the path did not reach (beyond an infeasible stretch) are sought by continuation
     from the reference the other way (:func:`_reseed`); ``reseeded`` lists them.
     """
-    F, k = q.shape[0], model.plan.unknowns
+    k = model.plan.unknowns
     q_ref = model.q_ref
     rate = np.ones(q.shape[1]) if rates is None else np.asarray(rates, float)
     only = closing_steps(model)
-    # 1. continuation along the path reference -> frame 0 -> ... -> last frame, by arc
-    # length in q, with stations not tied to the frames; the step halves until each
-    # station agrees with the trapezoid of the tangent (no hop to another root)
+    # 1. continuation along the path reference -> frame 0 -> ... -> last frame
+    path = _Path(q_ref, q)
     tight = min(tol, STATION_TOL)  # stations are few: always close them tightly
-    path = np.vstack([q_ref[None, :], q])
-    seg = np.abs(np.diff(path, axis=0)).max(axis=1)
-    arc = np.concatenate([[0.0], np.cumsum(seg)])
-    moving = np.flatnonzero(seg > 0)
-
-    def q_at(sv: float) -> FloatArray:
-        return np.array([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])])
-
-    ends = arc[moving + 1]
-
-    def qs_at(sv: FloatArray) -> FloatArray:
-        # q_at at every station of a block (np.interp is elementwise: the same values)
-        return np.stack([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])], axis=1)
-
-    def directions(sv: FloatArray) -> FloatArray:
-        # direction at every station of a block, vectorised (the same values)
-        if moving.size == 0:
-            return np.zeros((sv.size, path.shape[1]))
-        pos = np.searchsorted(ends, sv, side="left")
-        j = moving[np.minimum(pos, moving.size - 1)]
-        d: FloatArray = path[j + 1] - path[j]
-        out: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
-        return out
-
-    def direction(sv: float) -> FloatArray:
-        if moving.size == 0:
-            return np.zeros(path.shape[1])
-        pos = int(np.searchsorted(arc[moving + 1], sv, side="left"))
-        j = int(moving[min(pos, moving.size - 1)])
-        d: FloatArray = path[j + 1] - path[j]
-        out: FloatArray = d / np.abs(d).max()
-        return out
-
-    def frame_at(sv: float) -> int:
-        return int(np.clip(np.searchsorted(arc, sv, side="right") - 2, 0, F - 1))
-
-    def station(
-        sv: float, guess: FloatArray, dirn: FloatArray
-    ) -> tuple[FloatArray, FloatArray | None]:
-        Ks = _subset_modes(K, np.array([frame_at(sv)]))
-        return _station(model, q_at(sv), guess, Ks, tight, maxiter, only, dirn)
-
-    T_last = np.zeros(k)
-    dir0 = direction(0.0)
-    _, D0 = station(0.0, T_last, dir0)
-    S, TT = [0.0], [T_last]
-    DD = [np.zeros(k) if D0 is None else np.where(np.isfinite(D0), D0, 0.0)]
-    s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
-    lost = False  # True while the stations do not close (outside the feasible range)
-    block = min(4, MAX_BLOCK)  # stations solved together (doubles while all pass)
-    for _ in range(20000):
-        if s_last >= total:
-            break
-        if block > 1 and not lost and s_last + step < total:
-            # 2a. a block of stations at the current step, Newton on all at once from a
-            # quadratic prediction; the stations are then taken in order while each
-            # agrees with the trapezoid of the tangent, exactly as one at a time
-            sv = np.minimum(s_last + step * np.arange(1, block + 1), total)
-            sv = sv[: int(np.searchsorted(sv, total)) + 1]
-            dirs = directions(sv)
-            if (dirs == dirs[0]).all():
-                dl = (sv - s_last)[:, None]
-                curv = (DD[-1] - DD[-2]) / (S[-1] - S[-2]) if len(S) > 1 else 0.0 * T_last
-                Kb = None if K is None else _subset_modes(K, np.array([frame_at(x) for x in sv]))
-                tb, _, _, okb, Db = _newton(
-                    model,
-                    qs_at(sv),
-                    T_last + dl * DD[-1] + 0.5 * dl**2 * curv,
-                    Kb,
-                    tight,
-                    maxiter,
-                    only,
-                    dirs[0],
-                    BLOCK_ROUNDS,
-                )
-                taken = 0
-                for i in range(sv.size):
-                    ds = sv[i] - s_last
-                    pred = 0.5 * (DD[-1] + Db[i]) * ds
-                    if not (
-                        okb[i]
-                        and np.abs(tb[i] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
-                    ):
-                        break
-                    T_last, s_last = tb[i], float(sv[i])
-                    S.append(s_last)
-                    TT.append(T_last)
-                    DD.append(np.where(np.isfinite(Db[i]), Db[i], 0.0))
-                    taken += 1
-                if taken == sv.size:
-                    block = min(2 * block, MAX_BLOCK)
-                    step = min(2.0 * step, STATION_STEP)
-                else:
-                    block = min(max(2, taken), MAX_BLOCK)
-                if taken:
-                    continue
-                if okb[0] and step > 1e-4:  # closed but too far along a curved path
-                    step *= 0.5
-                    continue
-        # 2b. one station (after a rejected block, near trouble, or at a reduced step)
-        s_new = min(s_last + step, total)
-        ds = s_new - s_last
-        if len(S) > 1:  # cubic through the last two stations, extrapolated
-            h = S[-1] - S[-2]
-            u = (s_new - S[-2]) / h
-            guess = (
-                (2 * u**3 - 3 * u**2 + 1) * TT[-2]
-                + (u**3 - 2 * u**2 + u) * h * DD[-2]
-                + (-2 * u**3 + 3 * u**2) * TT[-1]
-                + (u**3 - u**2) * h * DD[-1]
-            )
-        else:
-            guess = T_last + DD[-1] * ds
-        tn, Dn = station(s_new, guess, direction(s_new))
-        if Dn is not None:
-            pred = 0.5 * (DD[-1] + Dn) * ds
-            fine = np.abs(tn - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
-        else:
-            fine = False
-        if fine or step <= 1e-4 or (lost and Dn is None):
-            if Dn is not None:
-                T_last = tn
-                S.append(s_new)
-                TT.append(T_last)
-                DD.append(np.where(np.isfinite(Dn), Dn, 0.0))
-                lost = False
-                step = min(2.0 * step, STATION_STEP)
-            else:
-                # a station that does not close is skipped (reported later); past the
-                # edge of the feasible range stride on at the full step, not by crawling
-                lost = True
-                step = STATION_STEP
-            s_last = s_new
-        else:
-            step *= 0.5
+    S, TT, DD, D0 = _continue(model, path, K, tight, maxiter, only)
+    dir0 = path.directions(np.zeros(1))[0]
     # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
-    guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc[1:])
+    guess = _hermite(S, TT, DD, path.arc[1:])
     t, err, iters, ok, J = _newton(model, q, guess, K, tol, maxiter, only)
     if not ok.all() and ok.any():
         fixed = _repair(model, q, t, err, ok, K, tol, maxiter)
@@ -730,8 +932,11 @@ def _hermite(x: FloatArray, y: FloatArray, dy: FloatArray, xi: FloatArray) -> Fl
     i = np.clip(np.searchsorted(x, xi, side="right") - 1, 0, x.size - 2)
     h = (x[i + 1] - x[i])[:, None]
     s = ((xi - x[i])[:, None]) / h
-    h00 = 2 * s**3 - 3 * s**2 + 1
-    h10 = s**3 - 2 * s**2 + s
-    h01 = -2 * s**3 + 3 * s**2
-    h11 = s**3 - s**2
+    # the basis by products (numpy's power takes a slow general path for the cube)
+    s2 = s * s
+    s3 = s2 * s
+    h01 = 3 * s2 - 2 * s3
+    h00 = 1 - h01
+    h10 = s3 - 2 * s2 + s
+    h11 = s3 - s2
     return h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
