@@ -10,7 +10,7 @@ import pytest
 
 from mjstruct.kinematics import planner
 from mjstruct.kinematics.geometry import diameter, first_close_pair, read_geometry
-from mjstruct.kinematics.steps import Topology, paths
+from mjstruct.kinematics.steps import Topology, base
 from mjstruct.structure.drivers import driver_balance
 from mjstruct.testing import shared_crank
 
@@ -48,13 +48,13 @@ def _random_cluster(rng: random.Random):  # type: ignore[no-untyped-def]
 def test_trees_answer_as_the_search_does(monkeypatch, seed):
     # every source gets a tree at once: each answer, after each addition, against the
     # breadth-first search on the same cluster
-    monkeypatch.setattr(paths, "GROW_AFTER", 0)
-    monkeypatch.setattr(paths, "MAX_TREES", 100)
+    monkeypatch.setattr(base, "GROW_AFTER", 0)
+    monkeypatch.setattr(base, "MAX_TREES", 100)
     rng = random.Random(seed)
     links, links_of, revolute = _random_cluster(rng)
     placed: set[str] = set()
     known: set[str] = set()
-    cp = paths.ClusterPaths(links_of, revolute, placed, known)
+    cp = base.ClusterPaths(links_of, revolute, placed, known)
     order = [(True, x) for x in links] + [(False, j) for j in links_of]
     rng.shuffle(order)
     answered = 0
