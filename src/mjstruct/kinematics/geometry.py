@@ -39,7 +39,6 @@ from mjstruct.errors import MechanismError, expect_mechanism
 from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.drivers import validate_drivers
-from mjstruct.typing import FloatArray
 
 __all__ = ["COINCIDE", "Geometry", "read_geometry"]
 
@@ -87,23 +86,19 @@ def diameter(points: list[complex]) -> float:
 def _farthest(hull: list[complex]) -> float:
     """Largest ``abs(a - b)`` over pairs of ``hull``, bit for bit as pairwise in Python.
 
-    numpy's squared distances (in blocks of about a million, one pass) find the pairs
-    within a relative 1e-9 of the largest; their Python ``abs`` decides (numpy's complex
-    ``abs`` may differ from Python's in the last bit).
+    numpy's squared distances (in blocks of rows, one pass; each block against the
+    columns from its first row on, so every pair once or twice, not twice) find the
+    pairs within a relative 1e-9 of the largest; their Python ``abs`` decides (numpy's
+    complex ``abs`` may differ from Python's in the last bit).
     """
     x = np.array([z.real for z in hull])
     y = np.array([z.imag for z in hull])
-    rows = max(1, 2**20 // len(hull))
-    blocks = range(0, len(hull), rows)
-
-    def squares(k: int) -> FloatArray:
-        dx, dy = x[k : k + rows, None] - x[None, :], y[k : k + rows, None] - y[None, :]
-        out: FloatArray = dx * dx + dy * dy
-        return out
-
+    rows = max(1, min(64, 2**20 // len(hull)))
     top, near = 0.0, []
-    for k in blocks:
-        sq = squares(k)
+    for k in range(0, len(hull), rows):
+        dx = x[k : k + rows, None] - x[None, k:]
+        dy = y[k : k + rows, None] - y[None, k:]
+        sq = dx * dx + dy * dy
         top = max(top, float(sq.max()))
         i, j = np.nonzero(sq >= top * (1.0 - 1e-9))
         near.append((k, i, j, sq[i, j]))
@@ -113,7 +108,7 @@ def _farthest(hull: list[complex]) -> float:
     for k, i, j, v in near:
         keep = v >= top * (1.0 - 1e-9)
         for a, b in zip(i[keep].tolist(), j[keep].tolist(), strict=True):
-            best = max(best, abs(hull[k + a] - hull[b]))
+            best = max(best, abs(hull[k + a] - hull[k + b]))
     return best
 
 
