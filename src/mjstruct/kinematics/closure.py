@@ -373,8 +373,8 @@ class _Path:
     """The reference followed by the frames, parametrised by arc length in q.
 
     Arc length is the max norm of the driver steps, so a direction's largest component
-    is 1; a position on a segment's end belongs to that segment (its direction, and the
-    assembly modes of the frame it ends at).  Consecutive segments of one direction
+    is 1; a position on a segment's end takes that segment's direction, and the
+    assembly modes of the last frame reached.  Consecutive segments of one direction
     form a run (a sweep is one run).
     """
 
@@ -388,9 +388,10 @@ class _Path:
         self.frames = int(q.shape[0])
         d = self.points[self.moving + 1] - self.points[self.moving]
         self.dirs: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
-        # where each moving segment's run of one direction ends
-        starts = np.flatnonzero(np.r_[True, (self.dirs[1:] != self.dirs[:-1]).any(axis=1)])
-        stops = np.append(starts[1:], self.moving.size)
+        # where each moving segment's run of one direction ends (none: a path at rest)
+        change = (self.dirs[1:] != self.dirs[:-1]).any(axis=1)
+        starts = np.flatnonzero(np.r_[True, change]) if self.moving.size else self.moving
+        stops = np.append(starts[1:], self.moving.size)[: starts.size]
         self.run_ends: FloatArray = np.repeat(self.ends[stops - 1], stops - starts)
 
     def _segment(self, sv: FloatArray) -> npt.NDArray[np.intp]:
@@ -418,7 +419,7 @@ class _Path:
         return float(self.run_ends[self._segment(np.array([sv]))[0]])
 
     def frames_at(self, sv: FloatArray) -> npt.NDArray[np.intp]:
-        """The frame whose assembly modes a position takes (its segment's end frame)."""
+        """The frame whose assembly modes a position takes (the last one reached)."""
         out: npt.NDArray[np.intp] = np.clip(
             np.searchsorted(self.arc, sv, side="right") - 2, 0, self.frames - 1
         )
