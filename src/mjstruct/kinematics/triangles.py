@@ -253,6 +253,5 @@ def distance_residual(P: Jet, Q: Jet, length: float) -> Jet:
         p1 = _dot(v[0], v[1])
         out.append(p1 / n)
     if len(v) > 2:
-        # n * n * n, not n**3: numpy's power takes the slow general path for 3
-        out.append((_dot(v[0], v[2]) + _dot(v[1], v[1])) / n - p1 * p1 / (n * n * n))
+        out.append((_dot(v[0], v[2]) + _dot(v[1], v[1])) / n - p1 * p1 / n**3)
     return out
