@@ -8,9 +8,14 @@ analytic (the same jet propagation as the analogs, seeded on the unknowns; the s
 are stacked along the frames, so one iteration is one evaluation of the steps the
 closure reads).  Initial values come from continuation along the path starting at the
 reference configuration (where every unknown is 0, the rotation from the reference):
-stations not tied to the frames, solved in blocks by the same vectorised Newton, then
-a cubic Hermite prediction on every frame.  The number of evaluations depends on the
-path's length and curvature, not on the number of frames.
+stations not tied to the frames, a window of up to :data:`MAX_BLOCK` of them solved
+together by the same vectorised Newton (one evaluation per round for the whole
+window: stations far ahead start from rough guesses and close while the ones before
+them are accepted, in order, each checked against the tangent from the last), then a
+quintic Hermite prediction on every frame (the stations' t and t', and t'' from one
+more evaluation), close enough that Newton on the frames takes two rounds.  The
+number of evaluations depends on the path's length and curvature, not on the number
+of frames.
 
 Afterwards the unknowns' derivatives follow from the differentiated closure
 equations, ``R_t t' = -R_q`` and ``R_t t'' = -R''``, so σ and κ stay exact.
@@ -42,7 +47,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -62,11 +67,26 @@ if TYPE_CHECKING:
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 
-#: continuation stations solved together at most (one evaluation per Newton round);
-#: 1 is the one-station-at-a-time continuation
-MAX_BLOCK = 8
-#: evaluation rounds for a block of stations; a station still open is left to the next
-BLOCK_ROUNDS = 5
+#: continuation stations solved together at most (one evaluation per Newton round:
+#: on a sweep, every station of the turn); 1 is the one-station-at-a-time continuation
+MAX_BLOCK = 64
+#: evaluation rounds of a window station from one guess; a station still open is
+#: guessed again once more is known around it (at the front: sought alone)
+BLOCK_ROUNDS = 8
+#: spacing of the window's stations along the path (radians of the driver, or scale
+#: units): below STATION_STEP so that the quintic Hermite guess between stations is
+#: good to ~1e-7 and Newton on the frames closes in two rounds
+WINDOW_STEP = 0.125
+#: a guess extrapolated from the last known stations is held beyond this arc from them
+#: (a cubic drifts off fast; a held value still converges from most of the turn)
+REACH = 0.5
+#: a window station this close to closing (relative error) is known well enough to
+#: guess its neighbours from and to test their agreement (Newton is then one or two
+#: steps from its root)
+SETTLED = 1e-6
+#: a stuck window station is guessed again at most this often (then, at the front, it
+#: is sought alone): bounds the rounds where the path leaves the feasible range
+RENEWALS = 2
 
 
 @dataclass(frozen=True)
@@ -352,6 +372,447 @@ def _subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:
     return {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in K.items()}
 
 
+class _Path:
+    """The reference followed by the frames, parametrised by arc length in q.
+
+    Arc length is the max norm of the driver steps, so a direction's largest component
+    is 1; a position on a segment's end takes that segment's direction, and the
+    assembly modes of the last frame reached.  Consecutive segments of one direction
+    form a run (a sweep is one run).
+    """
+
+    def __init__(self, q_ref: FloatArray, q: FloatArray) -> None:
+        self.points = np.vstack([q_ref[None, :], q])
+        seg = np.abs(np.diff(self.points, axis=0)).max(axis=1)
+        self.arc = np.concatenate([[0.0], np.cumsum(seg)])
+        self.total = float(self.arc[-1])
+        self.moving = np.flatnonzero(seg > 0)
+        self.ends = self.arc[self.moving + 1]
+        self.frames = int(q.shape[0])
+        d = self.points[self.moving + 1] - self.points[self.moving]
+        self.dirs: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
+        # where each moving segment's run of one direction ends (none: a path at rest)
+        change = (self.dirs[1:] != self.dirs[:-1]).any(axis=1)
+        starts = np.flatnonzero(np.r_[True, change]) if self.moving.size else self.moving
+        stops = np.append(starts[1:], self.moving.size)[: starts.size]
+        self.run_ends: FloatArray = np.repeat(self.ends[stops - 1], stops - starts)
+
+    def _segment(self, sv: FloatArray) -> npt.NDArray[np.intp]:
+        out: npt.NDArray[np.intp] = np.minimum(
+            np.searchsorted(self.ends, sv, side="left"), self.moving.size - 1
+        )
+        return out
+
+    def at(self, sv: FloatArray) -> FloatArray:
+        """Driver values at arc positions ``sv`` (positions × drivers)."""
+        cols = [np.interp(sv, self.arc, self.points[:, c]) for c in range(self.points.shape[1])]
+        return np.stack(cols, axis=1)
+
+    def directions(self, sv: FloatArray) -> FloatArray:
+        """dq/ds at arc positions ``sv`` (zero on a path that does not move)."""
+        if self.moving.size == 0:
+            return np.zeros((sv.size, self.points.shape[1]))
+        out: FloatArray = self.dirs[self._segment(sv)]
+        return out
+
+    def run_end(self, sv: float) -> float:
+        """The arc where the run through ``sv`` ends (one direction up to there)."""
+        if self.moving.size == 0:
+            return self.total
+        return float(self.run_ends[self._segment(np.array([sv]))[0]])
+
+    def frames_at(self, sv: FloatArray) -> npt.NDArray[np.intp]:
+        """The frame whose assembly modes a position takes (the last one reached)."""
+        out: npt.NDArray[np.intp] = np.clip(
+            np.searchsorted(self.arc, sv, side="right") - 2, 0, self.frames - 1
+        )
+        return out
+
+
+def _cubic(
+    s0: FloatArray | float,
+    t0: FloatArray,
+    d0: FloatArray,
+    s1: FloatArray | float,
+    t1: FloatArray,
+    d1: FloatArray,
+    s: FloatArray,
+) -> FloatArray:
+    """The cubic through (s0, t0) and (s1, t1) with slopes d0, d1, at positions ``s``.
+
+    Interpolates between s0 and s1, extrapolates beyond; the ends may be one per
+    position (arrays along the first axis).
+    """
+    h = np.asarray(s1 - s0, dtype=float).reshape(-1, 1)
+    u = (s - s0).reshape(-1, 1) / h
+    u2 = u * u
+    u3 = u2 * u
+    out: FloatArray = (
+        (2 * u3 - 3 * u2 + 1) * t0
+        + (u3 - 2 * u2 + u) * h * d0
+        + (3 * u2 - 2 * u3) * t1
+        + (u3 - u2) * h * d1
+    )
+    return out
+
+
+def _agreement(
+    t0: FloatArray, d0: FloatArray, t1: FloatArray, d1: FloatArray, ds: FloatArray
+) -> BoolArray:
+    """Whether each station's change of the unknowns agrees with the trapezoid of t'.
+
+    Rows are station pairs (from ``t0``, slope ``d0``, to ``t1``, ``d1``, ``ds``
+    apart).  The test that keeps the continuation on its branch: a hop to another root
+    changes the unknowns by much more than the tangent integrates to.
+    """
+    pred = 0.5 * (d0 + d1) * ds[:, None]
+    with np.errstate(invalid="ignore"):  # a tangent that is not finite: disagrees
+        out: BoolArray = (
+            np.abs(t1 - t0 - pred).max(axis=1) <= 0.05 * np.abs(pred).max(axis=1) + 1e-4
+        )
+    return out
+
+
+def _finite(d: FloatArray) -> FloatArray:
+    out: FloatArray = np.where(np.isfinite(d), d, 0.0)
+    return out
+
+
+def _continue(
+    model: KinematicModel,
+    path: _Path,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+    only: tuple[int, ...] | None,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None]:
+    """Stations along ``path`` from the reference: arc positions, unknowns and tangents.
+
+    Also returns the tangent at the reference (None: the reference does not close).
+    Stations are accepted in order: one that closes to ``tol`` and agrees with the
+    trapezoid of the tangent from the last one (:func:`_agreement`).  Up to
+    :data:`MAX_BLOCK` stations :data:`WINDOW_STEP` apart along a run of the path are
+    solved together (:class:`_Window`), one evaluation per round, each from a guess
+    by the cubic through the nearest stations known on either side (held beyond
+    :data:`REACH` when there is none ahead); a closed pair that disagrees gets a
+    station halfway, at once.  A station at the front that is refused gets one halfway
+    before it (a second refusal guesses it again); one that is stuck (it does not
+    assemble, cannot be halved or is still open after :data:`BLOCK_ROUNDS`) with
+    nothing new known is sought alone by :func:`_station` (the step halving down to
+    1e-4 until it agrees, as is every station outside the feasible range).
+    """
+    k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
+
+    def modes(sv: FloatArray) -> Modes | None:
+        return None if K is None else _subset_modes(K, path.frames_at(sv))
+
+    def station(sv: float, guess: FloatArray) -> tuple[FloatArray, FloatArray | None]:
+        s1 = np.array([sv])
+        dirn = path.directions(s1)[0]
+        return _station(model, path.at(s1)[0], guess, modes(s1), tol, maxiter, only, dirn)
+
+    _, D0 = station(0.0, np.zeros(k))
+    S, TT, DD = [0.0], [np.zeros(k)], [np.zeros(k) if D0 is None else _finite(D0)]
+    win = _Window(k)
+    wdir, wend = np.zeros(0), total
+    s_last, step = 0.0, STATION_STEP
+    lost = False  # True while the stations do not close (outside the feasible range)
+    alone = False  # True from a stuck window station until a station closes alone
+    for _ in range(20000):
+        if s_last >= total:
+            break
+        if MAX_BLOCK > 1 and not lost and not alone:
+            if win.size == 0:
+                first = min(s_last + WINDOW_STEP, total)
+                wdir = path.directions(np.array([first]))[0]
+                wend = min(path.run_end(first), total)
+            tail = float(win.s[-1]) if win.size else s_last
+            room = MAX_BLOCK - win.size
+            if room > 0 and tail < wend:
+                sv = np.minimum(tail + WINDOW_STEP * np.arange(1, room + 1), wend)
+                sv = sv[: int(np.searchsorted(sv, wend)) + 1]
+                win.insert(np.full(sv.size, win.size), sv, win.guess(sv, S, TT, DD))
+            R, J, Rd = closure_jets(model, path.at(win.s), win.t, modes(win.s), wdir, only)
+            assert Rd is not None
+            rmax = np.abs(R).max(axis=1)
+            finite = np.isfinite(rmax)
+            e = rmax / scale
+            # a trial that does not assemble or more than doubles max |R| is halved back
+            bad = (~finite | (rmax > 2.0 * win.rbase + 1e-300)) & (win.evals > 0)
+            stalled = (e >= 0.5 * win.err) & (e <= STALL_ERROR * tol)
+            closed = ~bad & finite & ((e <= tol) | stalled)
+            D = -_solve(J, Rd)
+            # accept the closed stations at the front while each agrees with the last
+            c = win.size if closed.all() else int(np.argmin(closed))
+            taken = 0
+            if c:
+                ds = win.s[:c] - np.append(s_last, win.s[: c - 1])
+                fits = (ds <= 1e-4) | _agreement(
+                    np.vstack([TT[-1], win.t[: c - 1]]),
+                    np.vstack([DD[-1], _finite(D[: c - 1])]),
+                    win.t[:c],
+                    D[:c],
+                    ds,
+                )
+                taken = c if fits.all() else int(np.argmin(fits))
+                S.extend(win.s[:taken].tolist())
+                TT.extend(win.t[:taken].copy())
+                DD.extend(_finite(D[:taken]))
+                s_last = S[-1]
+            refused = taken < c
+            stuck = ~closed & (
+                (~finite & (win.evals == 0))
+                | (bad & (win.halved >= 8))
+                | (win.evals + 1 >= BLOCK_ROUNDS)
+            )
+            live = ~stuck
+            live[:taken] = False
+            win.advance(R, J, D, rmax, e, bad, closed, live)
+            win.drop_front(taken)
+            if refused:
+                # closed, but too far along a curved path (or on another branch): a
+                # station halfway first; a second refusal guesses it again
+                mid = np.array([0.5 * (s_last + float(win.s[0]))])
+                if win.refused[0]:
+                    win.renew(np.arange(win.size) == 0, S, TT, DD, ahead=False)
+                win.refused[0] = True
+                win.insert(np.zeros(1, np.intp), mid, win.guess(mid, S, TT, DD, ahead=False))
+                continue
+            front_stuck = win.size > 0 and bool(stuck[taken])
+            renewed = win.renew(stuck[taken:], S, TT, DD)
+            if not front_stuck or renewed[0]:
+                win.split_disagreeing()
+                continue
+            # stuck at the front with nothing new known: sought alone, the step halving
+            # (as one station at a time) until one closes or the path is past the edge
+            step = float(win.s[0]) - s_last
+            win.drop_front(win.size)
+            alone = True
+        # one station alone (after a stuck window station, or outside the feasible range)
+        s_new = min(s_last + step, total)
+        ds1 = s_new - s_last
+        if len(S) > 1:  # cubic through the last two stations, extrapolated
+            g = _cubic(S[-2], TT[-2], DD[-2], S[-1], TT[-1], DD[-1], np.array([s_new]))[0]
+        else:
+            g = TT[-1] + DD[-1] * ds1
+        tn, Dn = station(s_new, g)
+        # (after skipped stations the trapezoid spans only the last step: as before)
+        fine = Dn is not None and bool(
+            _agreement(TT[-1][None], DD[-1][None], tn[None], Dn[None], np.array([ds1]))[0]
+        )
+        if fine or step <= 1e-4 or (lost and Dn is None):
+            if Dn is not None:
+                S.append(s_new)
+                TT.append(tn)
+                DD.append(_finite(Dn))
+                lost = alone = False
+                step = min(2.0 * step, STATION_STEP)
+            else:
+                # a station that does not close is skipped (reported later); past the
+                # edge of the feasible range stride on at the full step, not by crawling
+                lost = True
+                step = STATION_STEP
+            s_last = s_new
+        else:
+            step *= 0.5
+    return np.array(S), np.array(TT), np.array(DD), D0
+
+
+class _Window:
+    """Continuation stations being solved together, in order along the path.
+
+    Per station: arc position ``s``; trial unknowns ``t``; the last point evaluated
+    without halving, ``base``, with its Newton ``step`` and the fraction ``alpha`` of
+    it tried (``halved`` times), max |R| ``rbase``, error ``err``, tangent ``d`` there
+    and whether it ``closed``; evaluations ``evals``; whether it was ``refused`` once
+    (closed too far from the last station); ``known``, how many points were known
+    when it was last guessed (it is guessed again only once more are), and how many
+    ``renewals`` it had (at most :data:`RENEWALS`).
+    """
+
+    _FIELDS = (
+        "s",
+        "t",
+        "base",
+        "step",
+        "d",
+        "alpha",
+        "halved",
+        "rbase",
+        "err",
+        "evals",
+        "closed",
+        "refused",
+        "known",
+        "renewals",
+    )
+
+    def __init__(self, k: int) -> None:
+        self.checked = 0  # settled stations when the pairs were last tested
+        fresh = self._fresh(np.zeros(0), np.zeros((0, k)), 0)
+        self.s, self.t, self.base, self.step, self.d = (fresh[n] for n in self._FIELDS[:5])
+        self.alpha, self.halved, self.rbase, self.err = (fresh[n] for n in self._FIELDS[5:9])
+        self.evals, self.closed, self.refused = (fresh[n] for n in self._FIELDS[9:12])
+        self.known, self.renewals = fresh["known"], fresh["renewals"]
+
+    @property
+    def size(self) -> int:
+        """Stations in the window."""
+        return int(self.s.size)
+
+    def _fresh(self, sv: FloatArray, g: FloatArray, known: int) -> dict[str, npt.NDArray[Any]]:
+        n = sv.size
+        return {
+            "s": sv,
+            "t": g,
+            "base": g.copy(),
+            "step": np.zeros_like(g),
+            "d": np.zeros_like(g),
+            "alpha": np.ones(n),
+            "halved": np.zeros(n, np.int64),
+            "rbase": np.full(n, np.inf),
+            "err": np.full(n, np.inf),
+            "evals": np.zeros(n, np.int64),
+            "closed": np.zeros(n, bool),
+            "refused": np.zeros(n, bool),
+            "known": np.full(n, known),
+            "renewals": np.zeros(n, np.int64),
+        }
+
+    def _anchors(
+        self, S: list[float], TT: list[FloatArray], DD: list[FloatArray]
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        # the last two accepted stations and the window's closed stations
+        c = self.closed
+        return (
+            np.concatenate([S[-2:], self.s[c]]),
+            np.concatenate([TT[-2:], self.base[c]]),
+            np.concatenate([DD[-2:], self.d[c]]),
+        )
+
+    def guess(
+        self,
+        sv: FloatArray,
+        S: list[float],
+        TT: list[FloatArray],
+        DD: list[FloatArray],
+        ahead: bool = True,
+    ) -> FloatArray:
+        """Unknowns at positions ``sv``: the cubic through the nearest known points.
+
+        Between two known points (with ``ahead``, the window's closed stations count),
+        the cubic through them; else extrapolated from the last two, held beyond
+        :data:`REACH`.
+        """
+        x, y, dy = self._anchors(S, TT, DD) if ahead else (np.array(S[-2:]), TT[-2:], DD[-2:])
+        y, dy = np.asarray(y), np.asarray(dy)
+        if x.size == 1:
+            line: FloatArray = y[0] + dy[0] * (np.minimum(sv, x[0] + REACH) - x[0])[:, None]
+            return line
+        j = np.clip(np.searchsorted(x, sv), 1, x.size - 1)
+        inside = sv < x[-1]
+        i0 = np.where(inside, j - 1, x.size - 2)
+        i1 = np.where(inside, j, x.size - 1)
+        held = np.where(inside, sv, np.minimum(sv, x[-1] + REACH))
+        return _cubic(x[i0], y[i0], dy[i0], x[i1], y[i1], dy[i1], held)
+
+    def insert(
+        self, at: npt.NDArray[np.intp], sv: FloatArray, g: FloatArray, known: int = 0
+    ) -> None:
+        """New stations at positions ``sv`` with guesses ``g``, before indices ``at``."""
+        for name, v in self._fresh(sv, g, known).items():
+            setattr(self, name, np.insert(getattr(self, name), at, v, axis=0))
+
+    def drop_front(self, n: int) -> None:
+        """Forget the first ``n`` stations."""
+        if n:
+            for name in self._FIELDS:
+                setattr(self, name, getattr(self, name)[n:])
+
+    def renew(
+        self,
+        mask: BoolArray,
+        S: list[float],
+        TT: list[FloatArray],
+        DD: list[FloatArray],
+        ahead: bool = True,
+    ) -> BoolArray:
+        """Guess the ``mask`` stations again where more points are known; which were."""
+        known = len(S) + int(self.closed.sum())
+        # at most RENEWALS times each: the count of closed stations can go up and down
+        redo = mask & (self.known < known) & (self.renewals < RENEWALS)
+        if redo.any():
+            self.renewals[redo] += 1
+            for name, v in self._fresh(
+                self.s[redo], self.guess(self.s[redo], S, TT, DD, ahead), known
+            ).items():
+                if name not in ("s", "renewals"):
+                    getattr(self, name)[redo] = v
+        return redo
+
+    def split_disagreeing(self) -> None:
+        """A station halfway between each closed neighbour pair that disagrees."""
+        settled = int(self.closed.sum())
+        if settled == self.checked:  # no station settled since the last look
+            return
+        self.checked = settled
+        pair = self.closed[1:] & self.closed[:-1]
+        if not pair.any():
+            return
+        i = np.flatnonzero(pair)
+        ds = self.s[i + 1] - self.s[i]
+        far = ~_agreement(self.base[i], self.d[i], self.base[i + 1], self.d[i + 1], ds)
+        far &= ds > 1e-4
+        if far.any():
+            i = i[far]
+            mid = 0.5 * (self.s[i] + self.s[i + 1])
+            g = _cubic(
+                self.s[i],
+                self.base[i],
+                self.d[i],
+                self.s[i + 1],
+                self.base[i + 1],
+                self.d[i + 1],
+                mid,
+            )
+            self.insert(i + 1, mid, g)
+
+    def advance(
+        self,
+        R: FloatArray,
+        J: FloatArray,
+        D: FloatArray,
+        rmax: FloatArray,
+        e: FloatArray,
+        bad: BoolArray,
+        closed: BoolArray,
+        live: BoolArray,
+    ) -> None:
+        """One round for the ``live`` stations: ``bad`` trials halved, Newton on the rest."""
+        first = int(np.argmax(live)) if live.any() else live.size
+        g: slice | BoolArray
+        if live[first:].all() and not bad[first:].any():
+            g = slice(first, None)  # the usual round: every station from the first steps
+        else:
+            b = bad & live
+            if b.any():
+                self.alpha[b] *= 0.5
+                self.halved[b] += 1
+                self.t[b] = self.base[b] + self.alpha[b, None] * self.step[b]
+            g = ~bad & live
+            if not g.any():
+                return
+        self.err[g] = e[g]
+        self.base[g] = self.t[g]
+        self.rbase[g] = rmax[g]
+        self.d[g] = _finite(D[g])
+        self.closed[g] = closed[g] | (e[g] <= SETTLED)
+        self.evals[g] += 1
+        self.step[g] = _newton_step(J[g], R[g])
+        self.alpha[g], self.halved[g] = 1.0, 0
+        self.t[g] = self.base[g] + self.step[g]
+
+
 def close(
     model: KinematicModel,
     q: FloatArray,
@@ -364,162 +825,32 @@ def close(
     """Solve the closure unknowns on frames ``q`` (frames × drivers), then their derivatives.
 
     The frames are taken as a path: continuation runs from the reference configuration
-    to frame 0, then along the frames (stations at most :data:`STATION_STEP` apart,
-    cubic Hermite prediction in between), and one vectorised Newton polishes all frames.
-    Each Newton iteration, at a station or over all frames, is one evaluation of the
-    steps the closure reads (:func:`closing_steps`); a station's last one also gives its
-    tangent, so the number of evaluations depends on the path's length and curvature,
-    not on the number of frames.
+    to frame 0, then along the frames (:func:`_continue`: stations :data:`WINDOW_STEP`
+    apart, solved a window at a time, or at most :data:`STATION_STEP` apart one at a
+    time), a Hermite prediction fills in every frame (quintic with the stations' t'',
+    :func:`_station_curvature`, along a single run), and one vectorised Newton polishes
+    all frames.  Each Newton iteration, at the stations or over all frames, is one
+    evaluation of the steps the closure reads (:func:`closing_steps`); a station's last
+    one also gives its tangent, so the number of evaluations depends on the path's
+    length and curvature, not on the number of frames.
 
     Frames equal to the reference close there (unknowns 0).  With ``reseed``, frames
     the path did not reach (beyond an infeasible stretch) are sought by continuation
     from the reference the other way (:func:`_reseed`); ``reseeded`` lists them.
     """
-    F, k = q.shape[0], model.plan.unknowns
+    k = model.plan.unknowns
     q_ref = model.q_ref
     rate = np.ones(q.shape[1]) if rates is None else np.asarray(rates, float)
     only = closing_steps(model)
-    # 1. continuation along the path reference -> frame 0 -> ... -> last frame, by arc
-    # length in q, with stations not tied to the frames; the step halves until each
-    # station agrees with the trapezoid of the tangent (no hop to another root)
+    # 1. continuation along the path reference -> frame 0 -> ... -> last frame
+    path = _Path(q_ref, q)
     tight = min(tol, STATION_TOL)  # stations are few: always close them tightly
-    path = np.vstack([q_ref[None, :], q])
-    seg = np.abs(np.diff(path, axis=0)).max(axis=1)
-    arc = np.concatenate([[0.0], np.cumsum(seg)])
-    moving = np.flatnonzero(seg > 0)
-
-    def q_at(sv: float) -> FloatArray:
-        return np.array([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])])
-
-    ends = arc[moving + 1]
-
-    def qs_at(sv: FloatArray) -> FloatArray:
-        # q_at at every station of a block (np.interp is elementwise: the same values)
-        return np.stack([np.interp(sv, arc, path[:, c]) for c in range(path.shape[1])], axis=1)
-
-    def directions(sv: FloatArray) -> FloatArray:
-        # direction at every station of a block, vectorised (the same values)
-        if moving.size == 0:
-            return np.zeros((sv.size, path.shape[1]))
-        pos = np.searchsorted(ends, sv, side="left")
-        j = moving[np.minimum(pos, moving.size - 1)]
-        d: FloatArray = path[j + 1] - path[j]
-        out: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
-        return out
-
-    def direction(sv: float) -> FloatArray:
-        if moving.size == 0:
-            return np.zeros(path.shape[1])
-        pos = int(np.searchsorted(arc[moving + 1], sv, side="left"))
-        j = int(moving[min(pos, moving.size - 1)])
-        d: FloatArray = path[j + 1] - path[j]
-        out: FloatArray = d / np.abs(d).max()
-        return out
-
-    def frame_at(sv: float) -> int:
-        return int(np.clip(np.searchsorted(arc, sv, side="right") - 2, 0, F - 1))
-
-    def station(
-        sv: float, guess: FloatArray, dirn: FloatArray
-    ) -> tuple[FloatArray, FloatArray | None]:
-        Ks = _subset_modes(K, np.array([frame_at(sv)]))
-        return _station(model, q_at(sv), guess, Ks, tight, maxiter, only, dirn)
-
-    T_last = np.zeros(k)
-    dir0 = direction(0.0)
-    _, D0 = station(0.0, T_last, dir0)
-    S, TT = [0.0], [T_last]
-    DD = [np.zeros(k) if D0 is None else np.where(np.isfinite(D0), D0, 0.0)]
-    s_last, step, total = 0.0, STATION_STEP, float(arc[-1])
-    lost = False  # True while the stations do not close (outside the feasible range)
-    block = min(4, MAX_BLOCK)  # stations solved together (doubles while all pass)
-    for _ in range(20000):
-        if s_last >= total:
-            break
-        if block > 1 and not lost and s_last + step < total:
-            # 2a. a block of stations at the current step, Newton on all at once from a
-            # quadratic prediction; the stations are then taken in order while each
-            # agrees with the trapezoid of the tangent, exactly as one at a time
-            sv = np.minimum(s_last + step * np.arange(1, block + 1), total)
-            sv = sv[: int(np.searchsorted(sv, total)) + 1]
-            dirs = directions(sv)
-            if (dirs == dirs[0]).all():
-                dl = (sv - s_last)[:, None]
-                curv = (DD[-1] - DD[-2]) / (S[-1] - S[-2]) if len(S) > 1 else 0.0 * T_last
-                Kb = None if K is None else _subset_modes(K, np.array([frame_at(x) for x in sv]))
-                tb, _, _, okb, Db = _newton(
-                    model,
-                    qs_at(sv),
-                    T_last + dl * DD[-1] + 0.5 * dl**2 * curv,
-                    Kb,
-                    tight,
-                    maxiter,
-                    only,
-                    dirs[0],
-                    BLOCK_ROUNDS,
-                )
-                taken = 0
-                for i in range(sv.size):
-                    ds = sv[i] - s_last
-                    pred = 0.5 * (DD[-1] + Db[i]) * ds
-                    if not (
-                        okb[i]
-                        and np.abs(tb[i] - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
-                    ):
-                        break
-                    T_last, s_last = tb[i], float(sv[i])
-                    S.append(s_last)
-                    TT.append(T_last)
-                    DD.append(np.where(np.isfinite(Db[i]), Db[i], 0.0))
-                    taken += 1
-                if taken == sv.size:
-                    block = min(2 * block, MAX_BLOCK)
-                    step = min(2.0 * step, STATION_STEP)
-                else:
-                    block = min(max(2, taken), MAX_BLOCK)
-                if taken:
-                    continue
-                if okb[0] and step > 1e-4:  # closed but too far along a curved path
-                    step *= 0.5
-                    continue
-        # 2b. one station (after a rejected block, near trouble, or at a reduced step)
-        s_new = min(s_last + step, total)
-        ds = s_new - s_last
-        if len(S) > 1:  # cubic through the last two stations, extrapolated
-            h = S[-1] - S[-2]
-            u = (s_new - S[-2]) / h
-            guess = (
-                (2 * u**3 - 3 * u**2 + 1) * TT[-2]
-                + (u**3 - 2 * u**2 + u) * h * DD[-2]
-                + (-2 * u**3 + 3 * u**2) * TT[-1]
-                + (u**3 - u**2) * h * DD[-1]
-            )
-        else:
-            guess = T_last + DD[-1] * ds
-        tn, Dn = station(s_new, guess, direction(s_new))
-        if Dn is not None:
-            pred = 0.5 * (DD[-1] + Dn) * ds
-            fine = np.abs(tn - T_last - pred).max() <= 0.05 * np.abs(pred).max() + 1e-4
-        else:
-            fine = False
-        if fine or step <= 1e-4 or (lost and Dn is None):
-            if Dn is not None:
-                T_last = tn
-                S.append(s_new)
-                TT.append(T_last)
-                DD.append(np.where(np.isfinite(Dn), Dn, 0.0))
-                lost = False
-                step = min(2.0 * step, STATION_STEP)
-            else:
-                # a station that does not close is skipped (reported later); past the
-                # edge of the feasible range stride on at the full step, not by crawling
-                lost = True
-                step = STATION_STEP
-            s_last = s_new
-        else:
-            step *= 0.5
-    # 3. cubic Hermite guess on every frame from the stations that closed, then Newton
-    guess = _hermite(np.array(S), np.array(TT), np.array(DD), arc[1:])
+    S, TT, DD, D0 = _continue(model, path, K, tight, maxiter, only)
+    dir0 = path.directions(np.zeros(1))[0]
+    # 3. Hermite guess on every frame from the stations that closed (quintic, with the
+    # stations' t'', along a single run), then Newton
+    DD2 = _station_curvature(model, path, S, TT, DD, K, only)
+    guess = _hermite(S, TT, DD, path.arc[1:], DD2)
     t, err, iters, ok, J = _newton(model, q, guess, K, tol, maxiter, only)
     if not ok.all() and ok.any():
         fixed = _repair(model, q, t, err, ok, K, tol, maxiter)
@@ -722,16 +1053,75 @@ def _derivatives(
     return t1, t2
 
 
-def _hermite(x: FloatArray, y: FloatArray, dy: FloatArray, xi: FloatArray) -> FloatArray:
-    """Cubic Hermite interpolation of columns of y (slopes dy) at xi."""
+def _station_curvature(
+    model: KinematicModel,
+    path: _Path,
+    S: FloatArray,
+    TT: FloatArray,
+    DD: FloatArray,
+    K: Modes | None,
+    only: tuple[int, ...] | None,
+) -> FloatArray | None:
+    """t'' at the stations, from one evaluation; None off a single run (or for one station).
+
+    Seeds t' = DD (block 0) and DD + e_j (block j) at order 2: block 0 gives R'' at
+    t'' = 0, and the first-order parts' differences the columns of dR/dt, so
+    ``R_t t'' = -R''`` is solved without another evaluation of the Jacobian.
+    """
+    if S.size < 2 or path.moving.size == 0 or path.run_ends[0] < path.total:
+        return None
+    n, k = S.size, TT.shape[1]
+    seeds = np.concatenate([DD] + [DD + np.eye(k)[j] for j in range(k)])
+    sv = np.tile(S, k + 1)
+    ev = evaluate(
+        model,
+        np.tile(path.at(S), (k + 1, 1)),
+        order=2,
+        rates=path.dirs[0],
+        t=np.tile(TT, (k + 1, 1)),
+        t1=seeds,
+        K=None if K is None else _subset_modes(K, path.frames_at(sv)),
+        only=only,
+    )
+    R1 = ev.residual_matrix(1).reshape(k + 1, n, -1)
+    J = (R1[1:] - R1[0]).transpose(1, 2, 0)
+    return _finite(-_solve(J, ev.residual_matrix(2)[:n]))
+
+
+def _hermite(
+    x: FloatArray,
+    y: FloatArray,
+    dy: FloatArray,
+    xi: FloatArray,
+    d2y: FloatArray | None = None,
+) -> FloatArray:
+    """Hermite interpolation of columns of y (slopes dy) at xi: cubic, or quintic with d2y."""
     if x.size == 1:
         line: FloatArray = np.repeat(y, xi.size, axis=0) + (xi - x[0])[:, None] * dy
         return line
     i = np.clip(np.searchsorted(x, xi, side="right") - 1, 0, x.size - 2)
     h = (x[i + 1] - x[i])[:, None]
     s = ((xi - x[i])[:, None]) / h
-    h00 = 2 * s**3 - 3 * s**2 + 1
-    h10 = s**3 - 2 * s**2 + s
-    h01 = -2 * s**3 + 3 * s**2
-    h11 = s**3 - s**2
+    # the basis by products (numpy's power takes a slow general path for the cube)
+    s2 = s * s
+    s3 = s2 * s
+    if d2y is not None:
+        s4 = s3 * s
+        s5 = s4 * s
+        g0 = 10 * s3 - 15 * s4 + 6 * s5
+        quintic: FloatArray = (
+            (1 - g0) * y[i]
+            + g0 * y[i + 1]
+            + h
+            * ((s - 6 * s3 + 8 * s4 - 3 * s5) * dy[i] + (-4 * s3 + 7 * s4 - 3 * s5) * dy[i + 1])
+            + 0.5
+            * h
+            * h
+            * ((s2 - 3 * s3 + 3 * s4 - s5) * d2y[i] + (s3 - 2 * s4 + s5) * d2y[i + 1])
+        )
+        return quintic
+    h01 = 3 * s2 - 2 * s3
+    h00 = 1 - h01
+    h10 = s3 - 2 * s2 + s
+    h11 = s3 - s2
     return h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
