@@ -253,5 +253,6 @@ def distance_residual(P: Jet, Q: Jet, length: float) -> Jet:
         p1 = _dot(v[0], v[1])
         out.append(p1 / n)
     if len(v) > 2:
-        out.append((_dot(v[0], v[2]) + _dot(v[1], v[1])) / n - p1 * p1 / n**3)
+        # n * n * n, not n**3: numpy's power takes the slow general path for 3
+        out.append((_dot(v[0], v[2]) + _dot(v[1], v[1])) / n - p1 * p1 / (n * n * n))
     return out

@@ -1,0 +1,122 @@
+"""The closure's fast paths: the window of stations, the quintic guess and the path's runs.
+
+Each could be wrong without a test of the results failing loudly (a poorer guess only
+costs Newton rounds), so they are checked against slower references: a continuation
+on much finer stations, the analytic t'' of :func:`~mjstruct.kinematics.closure.derivatives`,
+and polynomials the Hermite interpolation must reproduce.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from mjstruct.catalog_files import example_path
+from mjstruct.io import read_mechanism
+from mjstruct.kinematics import closure
+from mjstruct.kinematics.model import KinematicModel
+
+
+def _model(name: str) -> KinematicModel:
+    return KinematicModel.build(read_mechanism(example_path(name)))
+
+
+def _counted(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    calls = [0]
+    real = closure.evaluate
+
+    def counting(*args: Any, **kwargs: Any) -> Any:
+        calls[0] += 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(closure, "evaluate", counting)
+    return calls
+
+
+def test_class_iv_closes_in_few_evaluations_and_two_rounds(monkeypatch: pytest.MonkeyPatch):
+    model = _model("class-iv-seed003")
+    calls = _counted(monkeypatch)
+    sol = closure.close(model, model.sweep(3600))
+    assert sol.converged.all() and sol.error.max() <= closure.NEWTON_TOL
+    assert sol.jumps == () and sol.reseeded == ()
+    # the whole turn in one window (a few rounds), one evaluation for the stations'
+    # t'', two Newton rounds on the frames and two for t' and t''
+    assert calls[0] <= 20, calls[0]
+    assert sol.iterations == 2
+
+
+def test_window_agrees_with_fine_steps_on_the_class_iv_example(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    model = _model("class-iv-seed003")
+    q = model.sweep(720)
+    coarse = closure.close(model, q, tol=1e-15)
+    monkeypatch.setattr(closure, "WINDOW_STEP", 0.02)
+    fine = closure.close(model, q, tol=1e-15)
+    assert coarse.converged.all() and fine.converged.all()
+    assert np.abs(coarse.t - fine.t).max() <= 1e-12
+    assert np.abs(coarse.t2 - fine.t2).max() <= 1e-10 * np.abs(fine.t2).max()
+
+
+def test_station_curvature_is_the_analytic_second_derivative():
+    model = _model("class-iv-seed003")
+    q = model.sweep(360)
+    path = closure._Path(model.q_ref, q)
+    only = closure.closing_steps(model)
+    S, TT, DD, _ = closure._continue(model, path, None, 1e-13, 30, only)
+    d2 = closure._station_curvature(model, path, S, TT, DD, None, only)
+    assert d2 is not None and d2.shape == TT.shape
+    qs = path.at(S)
+    t1, t2 = closure.derivatives(model, qs, TT, path.dirs[0])
+    assert np.abs(t1 - DD).max() <= 1e-9
+    assert np.abs(t2 - d2).max() <= 1e-9 * max(1.0, float(np.abs(t2).max()))
+
+
+def test_hermite_reproduces_quintics_with_curvature_and_cubics_without():
+    rng = np.random.default_rng(3)
+    x = np.sort(rng.uniform(0.0, 2.0, 7))
+    xi = np.linspace(x[0], x[-1], 101)
+    c5 = rng.normal(size=6)
+    p5 = np.polynomial.Polynomial(c5)
+    y, dy, d2y = (p5.deriv(m)(x)[:, None] for m in range(3))
+    got = closure._hermite(x, y, dy, xi, d2y)
+    assert np.abs(got[:, 0] - p5(xi)).max() <= 1e-12 * np.abs(p5(xi)).max()
+    p3 = np.polynomial.Polynomial(c5[:4])
+    got3 = closure._hermite(x, p3(x)[:, None], p3.deriv()(x)[:, None], xi)
+    assert np.abs(got3[:, 0] - p3(xi)).max() <= 1e-12 * np.abs(p3(xi)).max()
+
+
+def test_cubic_interpolates_and_extrapolates_a_cubic():
+    p = np.polynomial.Polynomial([0.3, -1.0, 0.5, 2.0])
+    s = np.array([0.1, 0.45, 0.8, 1.7])  # inside and beyond [0.2, 0.7]
+    got = closure._cubic(
+        0.2, np.array([p(0.2)]), np.array([p.deriv()(0.2)]), 0.7,
+        np.array([p(0.7)]), np.array([p.deriv()(0.7)]), s,
+    )  # fmt: skip
+    assert np.allclose(got[:, 0], p(s), rtol=0, atol=1e-12)
+
+
+def test_path_runs_end_where_the_direction_changes():
+    # the reference at 0, two frames along q0, then three along q1 (one standing still)
+    q = np.array([[0.1, 0.0], [0.2, 0.0], [0.2, 0.1], [0.2, 0.3], [0.2, 0.3]])
+    path = closure._Path(np.zeros(2), q)
+    assert path.total == pytest.approx(0.5)
+    assert path.run_end(0.05) == pytest.approx(0.2)
+    assert path.run_end(0.2) == pytest.approx(0.2)  # a run's end belongs to it
+    assert path.run_end(0.25) == pytest.approx(0.5)
+    dirs = path.directions(np.array([0.0, 0.2, 0.25, 0.5]))
+    assert np.array_equal(dirs, [[1, 0], [1, 0], [0, 1], [0, 1]])
+    # the modes of the last frame reached (frame 0 before it)
+    assert list(path.frames_at(np.array([0.05, 0.2, 0.25, 0.5]))) == [0, 1, 1, 4]
+    still = closure._Path(np.zeros(1), np.zeros((2, 1)))
+    assert still.total == 0 and still.run_ends.size == 0 and still.run_end(0.0) == 0
+
+
+def test_agreement_flags_a_hop_and_a_tangent_that_is_not_finite():
+    t0 = np.zeros((3, 1))
+    d = np.ones((3, 1))
+    t1 = np.array([[0.1], [0.5], [0.1]])
+    d1 = np.array([[1.0], [1.0], [np.nan]])
+    assert list(closure._agreement(t0, d, t1, d1, np.full(3, 0.1))) == [True, False, False]
