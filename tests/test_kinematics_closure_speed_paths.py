@@ -65,7 +65,7 @@ def test_station_curvature_is_the_analytic_second_derivative():
     q = model.sweep(360)
     path = closure._Path(model.q_ref, q)
     only = closure.closing_steps(model)
-    S, TT, DD, _ = closure._continue(model, path, None, 1e-13, 30, only)
+    S, TT, DD, _, _ = closure._continue(model, path, None, 1e-13, 30, only)
     d2 = closure._station_curvature(model, path, S, TT, DD, None, only)
     assert d2 is not None and d2.shape == TT.shape
     qs = path.at(S)

@@ -147,22 +147,40 @@ def _boundary(model: KinematicModel, a: FloatArray, b: FloatArray, K: Modes, k: 
 CLOSURE_BISECTIONS = 44
 
 
+#: the closure solved at a bisection point: (edge's feasible end, point) -> (t, closed)
+ClosureSolves = dict[tuple[bytes, bytes], tuple[FloatArray, bool]]
+
+
 def _closure_boundary(
-    model: KinematicModel, a: FloatArray, b: FloatArray, ta: FloatArray, K: Modes, k: int
+    model: KinematicModel,
+    a: FloatArray,
+    b: FloatArray,
+    ta: FloatArray,
+    K: Modes,
+    k: int,
+    solved: ClosureSolves | None = None,
 ) -> float:
     """q where a plan with closure unknowns stops assembling between a and b.
 
     Bisection on whether the closure still closes (Newton from the last closed point,
     so that it follows the branch into the fold) and step k assembles there: the
-    fold of the closure, the input limit of the singular analysis.
+    fold of the closure, the input limit of the singular analysis.  ``solved`` keeps
+    the Newton solves by point: where the closure fails at b, every step after it has
+    an edge there, and their bisections visit the same points as long as they agree
+    (a point of the bisection fixes the path that led to it).
     """
     from mjstruct.kinematics.closure import newton
 
+    memo: ClosureSolves = {} if solved is None else solved
     lo, hi, t = a.copy(), b.copy(), ta.copy()
     for _ in range(CLOSURE_BISECTIONS):
         mid = 0.5 * (lo + hi)
-        tn, _, _, ok = newton(model, mid[None, :], t[None, :], K)
-        if ok[0] and np.isfinite(_sine(model, mid[None, :], K, k, tn)).all():
+        key = (a.tobytes(), mid.tobytes())
+        if key not in memo:
+            tn, _, _, okn = newton(model, mid[None, :], t[None, :], K)
+            memo[key] = (tn, bool(okn[0]))
+        tn, ok = memo[key]
+        if ok and np.isfinite(_sine(model, mid[None, :], K, k, tn)).all():
             lo, t = mid, tn[0]
         else:
             hi = mid
@@ -187,6 +205,7 @@ def track_branches(
     events: list[BranchEvent] = []
     switchable = plan.unknowns == 0
     flipped = False
+    solved: ClosureSolves = {}
     for k, s in enumerate(plan.steps):
         if not s.step_kind.has_modes:
             continue
@@ -236,7 +255,7 @@ def track_branches(
             if switchable:
                 qb = _boundary(model, q[a], q[b], _modes_at(K, a), k)
             elif t is not None and np.isfinite(t[a]).all():
-                qb = _closure_boundary(model, q[a], q[b], t[a], _modes_at(K, a), k)
+                qb = _closure_boundary(model, q[a], q[b], t[a], _modes_at(K, a), k, solved)
             else:
                 qb = float(q[a, 0])
             events.append(BranchEvent(qb, int(a), k, s.joint, "dead point", 0.0, "kept"))

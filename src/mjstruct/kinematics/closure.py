@@ -255,7 +255,9 @@ def _newton(
     One evaluation per round gives the residual at the trial point and its Jacobian:
     the line search is the next round (a trial that does not assemble, or more than
     doubles max |R|, is halved back toward the last accepted point, at most 8 times).
-    ``max_rounds`` stops every frame after that many rounds (open frames not converged).
+    A frame stops after ``2 * maxiter`` evaluations, halvings included, or where even
+    the halved trial does not assemble.  ``max_rounds`` stops every frame after that
+    many rounds (open frames not converged).
     """
     F = t0.shape[0]
     scale = model.geometry.scale
@@ -264,6 +266,7 @@ def _newton(
     alpha = np.ones(F)
     halved = np.zeros(F, np.int64)
     evals = np.zeros(F, np.int64)
+    tries = np.zeros(F, np.int64)
     rbase = np.full(F, np.inf)
     err = np.full(F, np.inf)
     active = np.ones(F, bool)
@@ -273,6 +276,7 @@ def _newton(
     while active.any() and (max_rounds is None or rounds < max_rounds):
         rounds += 1
         idx = np.flatnonzero(active)
+        tries[idx] += 1
         R, J, Rd = closure_jets(model, q[idx], t[idx], _subset_modes(K, idx), rates, only)
         rmax = np.abs(R).max(axis=1)
         finite = np.isfinite(R).all(axis=1)
@@ -299,7 +303,7 @@ def _newton(
             last = np.full((F, *(J.shape[1:] if rates is None else (J.shape[2],))), np.nan)
         last[ia] = J if rates is None or Rdg is None else -_solve(J, Rdg)
         done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
-        spent = ~done & (evals[ia] >= maxiter)
+        spent = ~done & ((evals[ia] >= maxiter) | (tries[ia] >= 2 * maxiter) | ~np.isfinite(e))
         stop = done | spent
         if not stop.any():
             ig = ia
@@ -333,7 +337,9 @@ def _station(
 
     :func:`_newton` for one frame without the per-frame bookkeeping (stations are
     many small calls): one evaluation per iteration gives R, dR/dt and dR/dτ, so the
-    tangent at the converged point costs nothing more.  None: it did not close.
+    tangent at the converged point costs nothing more.  None: it did not close (as in
+    :func:`_newton`, at most ``2 * maxiter`` evaluations, and a trial that does not
+    assemble even halved ends it).
     """
     scale = model.geometry.scale
     q1 = q[None, :]
@@ -341,7 +347,7 @@ def _station(
     base, step = t, np.zeros_like(t)
     alpha, halved, evals = 1.0, 0, 0
     rbase = err = np.inf
-    while True:
+    for _ in range(2 * maxiter):
         R, J, Rd = closure_jets(model, q1, t[None, :], K, dirn, only)
         r = R[0]
         rmax = float(np.abs(r).max())
@@ -352,7 +358,9 @@ def _station(
             t = base + alpha * step
             continue
         evals += 1
-        e = rmax / scale if finite else np.nan
+        if not finite:
+            return t, None
+        e = rmax / scale
         stalled = e >= 0.5 * err
         err = e
         if e <= tol or (stalled and e <= STALL_ERROR * tol):
@@ -364,6 +372,7 @@ def _station(
         step = _newton_step(J, R)[0]
         alpha, halved = 1.0, 0
         t = base + step
+    return t, None
 
 
 def _subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:
@@ -396,6 +405,8 @@ class _Path:
         starts = np.flatnonzero(np.r_[True, change]) if self.moving.size else self.moving
         stops = np.append(starts[1:], self.moving.size)[: starts.size]
         self.run_ends: FloatArray = np.repeat(self.ends[stops - 1], stops - starts)
+        #: arc positions where the direction changes (a rocking input reverses there)
+        self.turns: FloatArray = self.ends[stops[:-1] - 1]
 
     def _segment(self, sv: FloatArray) -> npt.NDArray[np.intp]:
         out: npt.NDArray[np.intp] = np.minimum(
@@ -420,6 +431,19 @@ class _Path:
         if self.moving.size == 0:
             return self.total
         return float(self.run_ends[self._segment(np.array([sv]))[0]])
+
+    def next_turn(self, sv: float) -> float:
+        """The first arc position beyond ``sv`` where the direction changes (or the end)."""
+        i = int(np.searchsorted(self.turns, sv, side="right"))
+        return float(self.turns[i]) if i < self.turns.size else self.total
+
+    def direction_after(self, sv: float) -> FloatArray:
+        """dq/ds just beyond ``sv`` (at a turn: the new run's direction)."""
+        if self.moving.size == 0:
+            return np.zeros(self.points.shape[1])
+        i = min(int(np.searchsorted(self.ends, sv, side="right")), self.moving.size - 1)
+        out: FloatArray = self.dirs[i]
+        return out
 
     def frames_at(self, sv: FloatArray) -> npt.NDArray[np.intp]:
         """The frame whose assembly modes a position takes (the last one reached)."""
@@ -478,6 +502,14 @@ def _finite(d: FloatArray) -> FloatArray:
     return out
 
 
+def _tail(
+    S: list[float], TT: list[FloatArray], DD: list[FloatArray]
+) -> tuple[list[float], list[FloatArray], list[FloatArray]]:
+    """The last two stations, or the last alone when the one before is its twin at a turn."""
+    n = 2 if len(S) > 1 and S[-2] < S[-1] else 1
+    return S[-n:], TT[-n:], DD[-n:]
+
+
 def _continue(
     model: KinematicModel,
     path: _Path,
@@ -485,10 +517,15 @@ def _continue(
     tol: float,
     maxiter: int,
     only: tuple[int, ...] | None,
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None]:
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None, float]:
     """Stations along ``path`` from the reference: arc positions, unknowns and tangents.
 
-    Also returns the tangent at the reference (None: the reference does not close).
+    Also returns the tangent at the reference (None: the reference does not close) and
+    the arc where the stations stopped closing (inf: never): past the edge of the
+    feasible range the frames are not connected to the reference by the path (they
+    are left to :func:`_reseed`).  A station sits on every turn of the path, twice:
+    with the tangent along the run it ends and along the one it starts (stations
+    never cross a turn: the unknowns retrace their way back there).
     Stations are accepted in order: one that closes to ``tol`` and agrees with the
     trapezoid of the tangent from the last one (:func:`_agreement`).  Up to
     :data:`MAX_BLOCK` stations :data:`WINDOW_STEP` apart along a run of the path are
@@ -499,7 +536,7 @@ def _continue(
     before it (a second refusal guesses it again); one that is stuck (it does not
     assemble, cannot be halved or is still open after :data:`BLOCK_ROUNDS`) with
     nothing new known is sought alone by :func:`_station` (the step halving down to
-    1e-4 until it agrees, as is every station outside the feasible range).
+    1e-4 until it agrees; one that does not close there ends the continuation).
     """
     k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
 
@@ -516,14 +553,26 @@ def _continue(
     win = _Window(k)
     wdir, wend = np.zeros(0), total
     s_last, step = 0.0, STATION_STEP
-    lost = False  # True while the stations do not close (outside the feasible range)
     alone = False  # True from a stuck window station until a station closes alone
     for _ in range(20000):
         if s_last >= total:
             break
-        if MAX_BLOCK > 1 and not lost and not alone:
+        if S[-1] == s_last and s_last in path.turns and not (len(S) > 1 and S[-2] == s_last):
+            # a turn: the station again, its tangent along the new run's direction
+            new, old = path.direction_after(s_last), path.directions(np.array([s_last]))[0]
+            if new.size == 1:  # one driver: the tangent is linear in its rate
+                d = DD[-1] * (new[0] / old[0])
+            else:
+                s1 = np.array([s_last])
+                _, J, Rd = closure_jets(model, path.at(s1), TT[-1][None, :], modes(s1), new, only)
+                assert Rd is not None
+                d = _finite(-_solve(J, Rd)[0])
+            S.append(s_last)
+            TT.append(TT[-1])
+            DD.append(d)
+        if MAX_BLOCK > 1 and not alone:
             if win.size == 0:
-                first = min(s_last + WINDOW_STEP, total)
+                first = min(s_last + WINDOW_STEP, path.next_turn(s_last))
                 wdir = path.directions(np.array([first]))[0]
                 wend = min(path.run_end(first), total)
             tail = float(win.s[-1]) if win.size else s_last
@@ -589,10 +638,11 @@ def _continue(
             win.drop_front(win.size)
             alone = True
         # one station alone (after a stuck window station, or outside the feasible range)
-        s_new = min(s_last + step, total)
+        s_new = min(s_last + step, path.next_turn(s_last))
         ds1 = s_new - s_last
-        if len(S) > 1:  # cubic through the last two stations, extrapolated
-            g = _cubic(S[-2], TT[-2], DD[-2], S[-1], TT[-1], DD[-1], np.array([s_new]))[0]
+        s2, t2, d2 = _tail(S, TT, DD)
+        if len(s2) > 1:  # cubic through the last two stations, extrapolated
+            g = _cubic(s2[0], t2[0], d2[0], s2[1], t2[1], d2[1], np.array([s_new]))[0]
         else:
             g = TT[-1] + DD[-1] * ds1
         tn, Dn = station(s_new, g)
@@ -600,22 +650,18 @@ def _continue(
         fine = Dn is not None and bool(
             _agreement(TT[-1][None], DD[-1][None], tn[None], Dn[None], np.array([ds1]))[0]
         )
-        if fine or step <= 1e-4 or (lost and Dn is None):
-            if Dn is not None:
-                S.append(s_new)
-                TT.append(tn)
-                DD.append(_finite(Dn))
-                lost = alone = False
-                step = min(2.0 * step, STATION_STEP)
-            else:
-                # a station that does not close is skipped (reported later); past the
-                # edge of the feasible range stride on at the full step, not by crawling
-                lost = True
-                step = STATION_STEP
+        if fine or step <= 1e-4:
+            if Dn is None:  # the edge of the feasible range
+                return np.array(S), np.array(TT), np.array(DD), D0, s_new
+            S.append(s_new)
+            TT.append(tn)
+            DD.append(_finite(Dn))
+            alone = False
+            step = min(2.0 * step, STATION_STEP)
             s_last = s_new
         else:
             step *= 0.5
-    return np.array(S), np.array(TT), np.array(DD), D0
+    return np.array(S), np.array(TT), np.array(DD), D0, np.inf
 
 
 class _Window:
@@ -684,10 +730,11 @@ class _Window:
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         # the last two accepted stations and the window's closed stations
         c = self.closed
+        S, TT, DD = _tail(S, TT, DD)
         return (
-            np.concatenate([S[-2:], self.s[c]]),
-            np.concatenate([TT[-2:], self.base[c]]),
-            np.concatenate([DD[-2:], self.d[c]]),
+            np.concatenate([S, self.s[c]]),
+            np.concatenate([TT, self.base[c]]),
+            np.concatenate([DD, self.d[c]]),
         )
 
     def guess(
@@ -704,8 +751,10 @@ class _Window:
         the cubic through them; else extrapolated from the last two, held beyond
         :data:`REACH`.
         """
-        x, y, dy = self._anchors(S, TT, DD) if ahead else (np.array(S[-2:]), TT[-2:], DD[-2:])
-        y, dy = np.asarray(y), np.asarray(dy)
+        if ahead:
+            x, y, dy = self._anchors(S, TT, DD)
+        else:
+            x, y, dy = (np.asarray(v) for v in _tail(S, TT, DD))
         if x.size == 1:
             line: FloatArray = y[0] + dy[0] * (np.minimum(sv, x[0] + REACH) - x[0])[:, None]
             return line
@@ -845,13 +894,24 @@ def close(
     # 1. continuation along the path reference -> frame 0 -> ... -> last frame
     path = _Path(q_ref, q)
     tight = min(tol, STATION_TOL)  # stations are few: always close them tightly
-    S, TT, DD, D0 = _continue(model, path, K, tight, maxiter, only)
+    S, TT, DD, D0, gap = _continue(model, path, K, tight, maxiter, only)
     dir0 = path.directions(np.zeros(1))[0]
     # 3. Hermite guess on every frame from the stations that closed (quintic, with the
-    # stations' t'', along a single run), then Newton
+    # stations' t'', along a single run), then Newton on the frames the stations reached
     DD2 = _station_curvature(model, path, S, TT, DD, K, only)
     guess = _hermite(S, TT, DD, path.arc[1:], DD2)
-    t, err, iters, ok, J = _newton(model, q, guess, K, tol, maxiter, only)
+    reached = path.arc[1:] < gap
+    if reached.all():
+        t, err, iters, ok, J = _newton(model, q, guess, K, tol, maxiter, only)
+    else:
+        F, r = q.shape[0], np.flatnonzero(reached)
+        t, err, ok = np.full((F, k), np.nan), np.full(F, np.nan), np.zeros(F, bool)
+        J = np.full((F, model.plan.equations, k), np.nan)
+        iters = 0
+        if r.size:
+            t[r], err[r], iters, ok[r], J[r] = _newton(
+                model, q[r], guess[r], _subset_modes(K, r), tol, maxiter, only
+            )
     if not ok.all() and ok.any():
         fixed = _repair(model, q, t, err, ok, K, tol, maxiter)
         if fixed.size:
@@ -1062,14 +1122,25 @@ def _station_curvature(
     K: Modes | None,
     only: tuple[int, ...] | None,
 ) -> FloatArray | None:
-    """t'' at the stations, from one evaluation; None off a single run (or for one station).
+    """t'' at the stations, from one evaluation; None for one station, or off a single
+    run of a path of several drivers.
 
     Seeds t' = DD (block 0) and DD + e_j (block j) at order 2: block 0 gives R'' at
     t'' = 0, and the first-order parts' differences the columns of dR/dt, so
-    ``R_t t'' = -R''`` is solved without another evaluation of the Jacobian.
+    ``R_t t'' = -R''`` is solved without another evaluation of the Jacobian.  With one
+    driver the path turns only by reversing (dq/ds = ±1): t'' is the same both ways,
+    and the tangents are taken along the first run's direction.
     """
-    if S.size < 2 or path.moving.size == 0 or path.run_ends[0] < path.total:
+    if S.size < 2 or path.moving.size == 0:
         return None
+    if path.turns.size:
+        if path.points.shape[1] > 1:
+            return None
+        # each station's run direction (the second of a pair at a turn: the new run's)
+        sign = path.directions(S)[:, 0] * path.dirs[0, 0]
+        twin = np.flatnonzero(np.r_[False, S[1:] == S[:-1]])
+        sign[twin] = [path.direction_after(float(S[i]))[0] * path.dirs[0, 0] for i in twin]
+        DD = DD * sign[:, None]
     n, k = S.size, TT.shape[1]
     seeds = np.concatenate([DD] + [DD + np.eye(k)[j] for j in range(k)])
     sv = np.tile(S, k + 1)
