@@ -275,50 +275,50 @@ def _newton(
     rounds = 0
     while active.any() and (max_rounds is None or rounds < max_rounds):
         rounds += 1
-        idx = np.flatnonzero(active)
-        tries[idx] += 1
-        R, J, Rd = closure_jets(model, q[idx], t[idx], _subset_modes(K, idx), rates, only)
+        # while every frame iterates (the usual first rounds) the selections are
+        # slices: views, not copies of the frames' arrays
+        every = bool(active.all())
+        idx = np.arange(F) if every else np.flatnonzero(active)
+        sel: slice | npt.NDArray[np.intp] = slice(None) if every else idx
+        tries[sel] += 1
+        if every:
+            R, J, Rd = closure_jets(model, q, t, K, rates, only)
+        else:
+            R, J, Rd = closure_jets(model, q[idx], t[idx], _subset_modes(K, idx), rates, only)
         rmax = np.abs(R).max(axis=1)
-        finite = np.isfinite(R).all(axis=1)
-        bad = (~finite | (rmax > 2.0 * rbase[idx] + 1e-300)) & (halved[idx] < 8)
-        bad &= evals[idx] > 0
-        # most rounds halve no step and end no frame: the masks are then all of idx,
-        # and their selections are skipped (views instead of copies; none is written)
+        bad = (~np.isfinite(rmax) | (rmax > 2.0 * rbase[sel] + 1e-300)) & (halved[sel] < 8)
+        bad &= evals[sel] > 0
+        g: slice | npt.NDArray[np.intp] = sel
         if bad.any():
             b = idx[bad]
             alpha[b] *= 0.5
             halved[b] += 1
             t[b] = base[b] + alpha[b, None] * step[b]
             good = ~bad
-            ia, R, J, e = idx[good], R[good], J[good], rmax[good] / scale
-            rgood, Rdg = rmax[good], None if Rd is None else Rd[good]
-        else:
-            ia, e, rgood, Rdg = idx, rmax / scale, rmax, Rd
-        stalled = e >= 0.5 * err[ia]
-        err[ia] = e
-        base[ia] = t[ia]
-        rbase[ia] = rgood
-        evals[ia] += 1
+            g, idx, R, J, rmax = idx[good], idx[good], R[good], J[good], rmax[good]
+            Rd = None if Rd is None else Rd[good]
+        e = rmax / scale
+        stalled = e >= 0.5 * err[g]
+        err[g] = e
+        base[g] = t[g]
+        rbase[g] = rmax
+        evals[g] += 1
         if last is None:
             last = np.full((F, *(J.shape[1:] if rates is None else (J.shape[2],))), np.nan)
-        last[ia] = J if rates is None or Rdg is None else -_solve(J, Rdg)
+        last[g] = J if rates is None or Rd is None else -_solve(J, Rd)
         done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
-        spent = ~done & ((evals[ia] >= maxiter) | (tries[ia] >= 2 * maxiter) | ~np.isfinite(e))
+        spent = ~done & ((evals[g] >= maxiter) | (tries[g] >= 2 * maxiter) | ~np.isfinite(e))
         stop = done | spent
-        if not stop.any():
-            ig = ia
-            step[ig] = _newton_step(J, R)
-            alpha[ig], halved[ig] = 1.0, 0
-            t[ig] = base[ig] + step[ig]
-            continue
-        ok[ia[done]] = True
-        active[ia[stop]] = False
-        go = ~stop
-        ig = ia[go]
-        if ig.size:
-            step[ig] = _newton_step(J[go], R[go])
-            alpha[ig], halved[ig] = 1.0, 0
-            t[ig] = base[ig] + step[ig]
+        if stop.any():
+            ok[idx[done]] = True
+            active[idx[stop]] = False
+            go = ~stop
+            if not go.any():
+                continue
+            g, J, R = idx[go], J[go], R[go]
+        step[g] = _newton_step(J, R)
+        alpha[g], halved[g] = 1.0, 0
+        t[g] = base[g] + step[g]
     assert last is not None
     return base, err, rounds, ok | (err <= tol), last
 
