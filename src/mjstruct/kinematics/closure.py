@@ -877,8 +877,9 @@ def close(
     to frame 0, then along the frames (:func:`_continue`: stations :data:`WINDOW_STEP`
     apart, solved a window at a time, or at most :data:`STATION_STEP` apart one at a
     time), a Hermite prediction fills in every frame (quintic with the stations' t'',
-    :func:`_station_curvature`, along a single run), and one vectorised Newton polishes
-    all frames.  Each Newton iteration, at the stations or over all frames, is one
+    :func:`_station_curvature`), and one vectorised Newton polishes the frames the
+    stations reached (not those past the edge of the feasible range, where the
+    continuation stops).  Each Newton iteration, at the stations or over all frames, is one
     evaluation of the steps the closure reads (:func:`closing_steps`); a station's last
     one also gives its tangent, so the number of evaluations depends on the path's
     length and curvature, not on the number of frames.
