@@ -87,6 +87,10 @@ SETTLED = 1e-6
 #: a stuck window station is guessed again at most this often (then, at the front, it
 #: is sought alone): bounds the rounds where the path leaves the feasible range
 RENEWALS = 2
+#: Newton iterations of a station sought alone: from the cubic through the last two it
+#: converges in a few, and one that does not is tried again from half the step (near
+#: the edge of the feasible range a full maxiter per try made a sweep take seconds)
+STATION_ITERATIONS = 12
 
 
 @dataclass(frozen=True)
@@ -546,7 +550,8 @@ def _continue(
     def station(sv: float, guess: FloatArray) -> tuple[FloatArray, FloatArray | None]:
         s1 = np.array([sv])
         dirn = path.directions(s1)[0]
-        return _station(model, path.at(s1)[0], guess, modes(s1), tol, maxiter, only, dirn)
+        iters = min(maxiter, STATION_ITERATIONS)
+        return _station(model, path.at(s1)[0], guess, modes(s1), tol, iters, only, dirn)
 
     _, D0 = station(0.0, np.zeros(k))
     S, TT, DD = [0.0], [np.zeros(k)], [np.zeros(k) if D0 is None else _finite(D0)]
