@@ -918,8 +918,13 @@ def close(
             t[r], err[r], iters, ok[r], J[r] = _newton(
                 model, q[r], guess[r], _subset_modes(K, r), tol, maxiter, only
             )
-    if not ok.all() and ok.any():
-        fixed = _repair(model, q, t, err, ok, K, tol, maxiter)
+    # frames Newton missed among those reached (a prefix of the frames: the arc grows
+    # along them) are walked to from a closed neighbour; past the gap it would only
+    # walk the same path into the same edge
+    n = int(reached.sum())
+    if not ok[:n].all() and ok[:n].any():
+        Kn = K if n == q.shape[0] else _subset_modes(K, np.arange(n))
+        fixed = _repair(model, q[:n], t[:n], err[:n], ok[:n], Kn, tol, maxiter)
         if fixed.size:
             J[fixed] = closure_jets(
                 model, q[fixed], t[fixed], _subset_modes(K, fixed), None, only
