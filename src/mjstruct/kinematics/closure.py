@@ -555,7 +555,7 @@ def _continue(
 
     _, D0 = station(0.0, np.zeros(k))
     S, TT, DD = [0.0], [np.zeros(k)], [np.zeros(k) if D0 is None else _finite(D0)]
-    win = _Window(k)
+    win = _Window(k, path.points.shape[1])
     wdir, wend = np.zeros(0), total
     s_last, step = 0.0, STATION_STEP
     alone = False  # True from a stuck window station until a station closes alone
@@ -585,8 +585,9 @@ def _continue(
             if room > 0 and tail < wend:
                 sv = np.minimum(tail + WINDOW_STEP * np.arange(1, room + 1), wend)
                 sv = sv[: int(np.searchsorted(sv, wend)) + 1]
-                win.insert(np.full(sv.size, win.size), sv, win.guess(sv, S, TT, DD))
-            R, J, Rd = closure_jets(model, path.at(win.s), win.t, modes(win.s), wdir, only)
+                g = win.guess(sv, S, TT, DD)
+                win.insert(np.full(sv.size, win.size), sv, path.at(sv), g)
+            R, J, Rd = closure_jets(model, win.q, win.t, modes(win.s), wdir, only)
             assert Rd is not None
             rmax = np.abs(R).max(axis=1)
             finite = np.isfinite(rmax)
@@ -630,7 +631,8 @@ def _continue(
                 if win.refused[0]:
                     win.renew(np.arange(win.size) == 0, S, TT, DD, ahead=False)
                 win.refused[0] = True
-                win.insert(np.zeros(1, np.intp), mid, win.guess(mid, S, TT, DD, ahead=False))
+                g = win.guess(mid, S, TT, DD, ahead=False)
+                win.insert(np.zeros(1, np.intp), mid, path.at(mid), g)
                 continue
             front_stuck = win.size > 0 and bool(stuck[taken])
             renewed = win.renew(stuck[taken:], S, TT, DD)
@@ -672,17 +674,18 @@ def _continue(
 class _Window:
     """Continuation stations being solved together, in order along the path.
 
-    Per station: arc position ``s``; trial unknowns ``t``; the last point evaluated
-    without halving, ``base``, with its Newton ``step`` and the fraction ``alpha`` of
-    it tried (``halved`` times), max |R| ``rbase``, error ``err``, tangent ``d`` there
-    and whether it ``closed``; evaluations ``evals``; whether it was ``refused`` once
-    (closed too far from the last station); ``known``, how many points were known
-    when it was last guessed (it is guessed again only once more are), and how many
-    ``renewals`` it had (at most :data:`RENEWALS`).
+    Per station: arc position ``s`` and driver values ``q`` there; trial unknowns
+    ``t``; the last point evaluated without halving, ``base``, with its Newton ``step``
+    and the fraction ``alpha`` of it tried (``halved`` times), max |R| ``rbase``, error
+    ``err``, tangent ``d`` there and whether it ``closed``; evaluations ``evals``;
+    whether it was ``refused`` once (closed too far from the last station); ``known``,
+    how many points were known when it was last guessed (it is guessed again only once
+    more are), and how many ``renewals`` it had (at most :data:`RENEWALS`).
     """
 
     _FIELDS = (
         "s",
+        "q",
         "t",
         "base",
         "step",
@@ -698,12 +701,13 @@ class _Window:
         "renewals",
     )
 
-    def __init__(self, k: int) -> None:
+    def __init__(self, k: int, drivers: int) -> None:
         self.checked = 0  # settled stations when the pairs were last tested
-        fresh = self._fresh(np.zeros(0), np.zeros((0, k)), 0)
-        self.s, self.t, self.base, self.step, self.d = (fresh[n] for n in self._FIELDS[:5])
-        self.alpha, self.halved, self.rbase, self.err = (fresh[n] for n in self._FIELDS[5:9])
-        self.evals, self.closed, self.refused = (fresh[n] for n in self._FIELDS[9:12])
+        fresh = self._fresh(np.zeros(0), np.zeros((0, drivers)), np.zeros((0, k)), 0)
+        self.s, self.q, self.t, self.base = (fresh[n] for n in self._FIELDS[:4])
+        self.step, self.d, self.alpha, self.halved = (fresh[n] for n in self._FIELDS[4:8])
+        self.rbase, self.err, self.evals = (fresh[n] for n in self._FIELDS[8:11])
+        self.closed, self.refused = fresh["closed"], fresh["refused"]
         self.known, self.renewals = fresh["known"], fresh["renewals"]
 
     @property
@@ -711,10 +715,13 @@ class _Window:
         """Stations in the window."""
         return int(self.s.size)
 
-    def _fresh(self, sv: FloatArray, g: FloatArray, known: int) -> dict[str, npt.NDArray[Any]]:
+    def _fresh(
+        self, sv: FloatArray, qv: FloatArray, g: FloatArray, known: int
+    ) -> dict[str, npt.NDArray[Any]]:
         n = sv.size
         return {
             "s": sv,
+            "q": qv,
             "t": g,
             "base": g.copy(),
             "step": np.zeros_like(g),
@@ -771,11 +778,28 @@ class _Window:
         return _cubic(x[i0], y[i0], dy[i0], x[i1], y[i1], dy[i1], held)
 
     def insert(
-        self, at: npt.NDArray[np.intp], sv: FloatArray, g: FloatArray, known: int = 0
+        self,
+        at: npt.NDArray[np.intp],
+        sv: FloatArray,
+        qv: FloatArray,
+        g: FloatArray,
+        known: int = 0,
     ) -> None:
-        """New stations at positions ``sv`` with guesses ``g``, before indices ``at``."""
-        for name, v in self._fresh(sv, g, known).items():
-            setattr(self, name, np.insert(getattr(self, name), at, v, axis=0))
+        """New stations at ``sv`` (driver values ``qv``), guesses ``g``, before ``at``."""
+        new = self._fresh(sv, qv, g, known)
+        if (at == self.size).all():  # appended (filling the window): no general insert
+            for name, v in new.items():
+                setattr(self, name, np.concatenate([getattr(self, name), v]))
+            return
+        # np.insert's result in one gather per field: new station j lands at at[j] + j
+        n, m = self.size, sv.size
+        slot = np.zeros(n + m, bool)
+        slot[at + np.arange(m)] = True
+        perm = np.empty(n + m, np.intp)
+        perm[~slot] = np.arange(n)
+        perm[slot] = n + np.arange(m)
+        for name, v in new.items():
+            setattr(self, name, np.concatenate([getattr(self, name), v])[perm])
 
     def drop_front(self, n: int) -> None:
         """Forget the first ``n`` stations."""
@@ -792,15 +816,17 @@ class _Window:
         ahead: bool = True,
     ) -> BoolArray:
         """Guess the ``mask`` stations again where more points are known; which were."""
+        if not mask.any():
+            return mask
         known = len(S) + int(self.closed.sum())
         # at most RENEWALS times each: the count of closed stations can go up and down
         redo = mask & (self.known < known) & (self.renewals < RENEWALS)
         if redo.any():
             self.renewals[redo] += 1
             for name, v in self._fresh(
-                self.s[redo], self.guess(self.s[redo], S, TT, DD, ahead), known
+                self.s[redo], self.q[redo], self.guess(self.s[redo], S, TT, DD, ahead), known
             ).items():
-                if name not in ("s", "renewals"):
+                if name not in ("s", "q", "renewals"):
                     getattr(self, name)[redo] = v
         return redo
 
@@ -820,6 +846,8 @@ class _Window:
         if far.any():
             i = i[far]
             mid = 0.5 * (self.s[i] + self.s[i + 1])
+            # within a run the path is straight in q: the midpoint in arc is in q too
+            qmid = 0.5 * (self.q[i] + self.q[i + 1])
             g = _cubic(
                 self.s[i],
                 self.base[i],
@@ -829,7 +857,7 @@ class _Window:
                 self.d[i + 1],
                 mid,
             )
-            self.insert(i + 1, mid, g)
+            self.insert(i + 1, mid, qmid, g)
 
     def advance(
         self,
