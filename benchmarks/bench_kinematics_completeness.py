@@ -3,25 +3,35 @@
 Random one-DOF mechanisms grown from a crank by dyads, triads and class-IV groups, with
 multiple joints and sliders (:func:`mjstruct.testing.random_mechanism`), each with a
 random reference configuration in the unit square (:func:`mjstruct.testing.random_geometry`).
+Mechanism ``s`` (``s = 0 .. count - 1``) is ``random_geometry(random_mechanism(g, seed=s), s)``
+with its group count ``g`` the ``s + 1``-th draw of
+``np.random.default_rng(2026).integers(1, max_groups + 1)`` (one draw per mechanism).
 For every one the Assur decomposition accepts (its generic mobility equals the driver
 count by construction), the benchmark counts:
 
 * planned: ``KinematicModel.build`` gives a plan (triangles, closure unknowns or both);
-* reference closed: the motion at the reference driver value assembles and puts every
-  revolute centre back at its reference point (within 1e-9 of the size);
+* reference closed: the motion at the reference driver value alone assembles and puts
+  every revolute centre back at its reference point (within 1e-9 of the size);
 * moves: frames assembled on a short sweep of the driver around the reference (±3° in
-  13 frames) -- a random geometry may sit near a dead position, so fewer than all is
-  not a failure, but none at all beside the reference would be;
-* the time per mechanism (plan and the short sweep), median.
+  13 frames, one path through the reference) -- a random geometry may sit near a dead
+  position, so fewer than all is not a failure, but none beside the reference would be;
+* the time per mechanism (plan, the reference frame and the short sweep): the median,
+  the total, and the slowest mechanisms by seed, with their links and closure unknowns.
 
-Run: ``python benchmarks/bench_kinematics_completeness.py [--count N] [--max-groups G]``.
+Progress (the mechanism being solved, the elapsed time) goes to stderr when it is a
+terminal; the results go to stdout.
+
+Run: ``python benchmarks/bench_kinematics_completeness.py [--count N] [--max-groups G]
+[--slowest K]``.
 """
 
 from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -32,24 +42,74 @@ from mjstruct.testing import random_geometry, random_mechanism
 
 #: half-width of the short sweep around the reference (radians) and its frames
 SPAN, FRAMES = np.radians(3.0), 13
+#: seed of the group counts' generator
+GROUPS_SEED = 2026
 
 
-def one(groups: int, seed: int) -> dict[str, object]:
+@dataclass
+class Row:
+    """What one random mechanism gave.
+
+    Attributes
+    ----------
+    seed, groups, links : the mechanism's seed, Assur group count and link count.
+    accepted : the Assur decomposition accepts it.
+    planned : ``KinematicModel.build`` planned it.
+    unknowns : closure unknowns of the plan.
+    closed : the reference frame assembles at the reference configuration.
+    moved : frames of the short sweep that assemble (the reference's included).
+    beside : some frame of the short sweep other than the reference assembles.
+    seconds : plan, reference frame and short sweep (None when one of them raised).
+    why : the error, for a mechanism not planned or whose motion raised.
+    """
+
+    seed: int
+    groups: int
+    links: int
+    accepted: bool = False
+    planned: bool = False
+    unknowns: int = 0
+    closed: bool = False
+    moved: int = 0
+    beside: bool = False
+    seconds: float | None = None
+    why: str = ""
+
+
+def group_counts(count: int, max_groups: int) -> list[int]:
+    """Assur group counts of mechanisms ``0 .. count - 1`` (one draw each, in order)."""
+    rng = np.random.default_rng(GROUPS_SEED)
+    return [int(rng.integers(1, max_groups + 1)) for _ in range(count)]
+
+
+def one(groups: int, seed: int) -> Row:
+    """Plan random mechanism ``seed`` of ``groups`` groups, close it and sweep it.
+
+    Parameters
+    ----------
+    groups : Assur groups grown on the crank.
+    seed : seed of the mechanism and of its reference geometry.
+
+    Returns
+    -------
+    Row
+        the counts of the module docstring for this mechanism.
+    """
     m = random_geometry(random_mechanism(groups, seed=seed), seed)
-    row: dict[str, object] = {"links": len(m.links), "accepted": False}
+    row = Row(seed=seed, groups=groups, links=len(m.links))
     try:
         assur_groups(m)
     except MechanismError:
         return row
-    row["accepted"] = True
+    row.accepted = True
     t0 = time.perf_counter()
     try:
         model = KinematicModel.build(m)
-    except MechanismError as exc:
-        row.update(planned=False, why=str(exc))
+    except (MechanismError, NumericalError) as exc:
+        row.why = f"not planned: {exc}"
         return row
-    row["planned"] = True
-    row["unknowns"] = model.plan.unknowns
+    row.planned = True
+    row.unknowns = model.plan.unknowns
     q0 = model.q_ref
     q = q0[None, :] + np.linspace(-SPAN, SPAN, FRAMES)[:, None]
     try:
@@ -57,49 +117,87 @@ def one(groups: int, seed: int) -> dict[str, object]:
             ref = model.motion(q0[None, :])
             sweep = model.motion(q)
     except (MechanismError, NumericalError) as exc:
-        row.update(closed=False, why=str(exc))
+        row.why = f"motion raised: {exc}"
         return row
-    row["seconds"] = time.perf_counter() - t0
+    row.seconds = time.perf_counter() - t0
     gap = max(
         abs(complex(ref.centre(j.id)[0][0]) - complex(*j.at)) for j in m.joints if j.kind == "R"
     )
-    row["closed"] = bool(ref.valid.all()) and gap <= 1e-9 * model.scale
-    row["moved"] = int(sweep.valid.sum())
+    row.closed = bool(ref.valid.all()) and gap <= 1e-9 * model.scale
+    if not row.closed:
+        row.why = f"reference not reproduced (gap {gap / model.scale:.3g} of the size)"
+    row.moved = int(sweep.valid.sum())
+    row.beside = bool(np.delete(sweep.valid, FRAMES // 2).any())
     return row
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--count", type=int, default=60, help="random mechanisms")
-    ap.add_argument("--max-groups", type=int, default=20, help="Assur groups at most")
-    args = ap.parse_args()
-    rng = np.random.default_rng(2026)
-    rows = []
-    for seed in range(args.count):
-        rows.append(one(int(rng.integers(1, args.max_groups + 1)), seed))
-        print(f"\r{seed + 1}/{args.count} mechanisms", end="", flush=True)
-    print()
-    acc = [r for r in rows if r["accepted"]]
-    planned = [r for r in acc if r.get("planned")]
-    closed = [r for r in planned if r.get("closed")]
-    moved = [r for r in closed if int(r["moved"]) > 1]  # type: ignore[call-overload]
-    whole = [r for r in closed if r["moved"] == FRAMES]
-    links = [int(r["links"]) for r in acc]  # type: ignore[call-overload]
-    iterated = sum(1 for r in planned if int(r["unknowns"]) > 0)  # type: ignore[call-overload]
+def report(rows: list[Row], slowest: int) -> None:
+    """Print the counts, the times and the mechanisms that failed."""
+    acc = [r for r in rows if r.accepted]
+    planned = [r for r in acc if r.planned]
+    closed = [r for r in planned if r.closed]
+    beside = [r for r in closed if r.beside]
+    whole = [r for r in closed if r.moved == FRAMES]
+    links = [r.links for r in rows]
+    iterated = sum(1 for r in planned if r.unknowns > 0)
     print(
         f"{len(rows)} random mechanisms, {min(links)} to {max(links)} links "
         f"(median {statistics.median(links):.0f}); accepted by the decomposition: {len(acc)}"
     )
-    print(f"  planned                       {len(planned):4d} / {len(acc)}")
-    print(f"    of which with closure unknowns {iterated:4d}")
-    print(f"  reference closed (1e-9)       {len(closed):4d} / {len(planned)}")
-    print(f"  assembled beside the reference {len(moved):4d} / {len(closed)}")
-    print(f"  all {FRAMES} frames of ±3°          {len(whole):4d} / {len(closed)}")
-    secs = [float(r["seconds"]) for r in closed]  # type: ignore[arg-type]
-    print(f"  plan + 14 frames, median      {statistics.median(secs) * 1e3:8.1f} ms")
+    span = f"±{np.degrees(SPAN):g}°"
+    for label, n, of in (
+        ("planned", len(planned), len(acc)),
+        ("  of which with closure unknowns", iterated, len(planned)),
+        ("reference closed (1e-9)", len(closed), len(planned)),
+        ("assembled beside the reference", len(beside), len(closed)),
+        (f"all {FRAMES} frames of {span}", len(whole), len(closed)),
+    ):
+        print(f"  {label:<33}{n:4d} / {of}")
+    timed = [(r.seconds, r) for r in planned if r.seconds is not None]
+    if timed:
+        secs = [t for t, _ in timed]
+        print(
+            f"  plan + {FRAMES + 1} frames per mechanism: median "
+            f"{statistics.median(secs) * 1e3:.1f} ms, total {sum(secs):.1f} s"
+        )
+        print("  slowest:")
+        for t, r in sorted(timed, key=lambda x: -x[0])[:slowest]:
+            print(
+                f"    seed {r.seed:3d}: {t:6.2f} s  ({r.groups} groups, {r.links} links, "
+                f"{r.unknowns} closure unknowns, {r.moved}/{FRAMES} frames)"
+            )
     for r in acc:
-        if not r.get("planned") or not r.get("closed"):
-            print(f"  FAILED ({r['links']} links): {r.get('why', 'reference not reproduced')}")
+        if r.why:
+            print(f"  FAILED seed {r.seed} ({r.links} links): {r.why}")
+
+
+def main() -> None:
+    """Run the benchmark on the mechanisms the command line asks for."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--count", type=int, default=60, help="random mechanisms")
+    ap.add_argument("--max-groups", type=int, default=20, help="Assur groups at most")
+    ap.add_argument("--slowest", type=int, default=5, help="slowest mechanisms listed")
+    args = ap.parse_args()
+    if args.count < 1 or args.max_groups < 1:
+        ap.error("--count and --max-groups must be at least 1")
+    tty = sys.stderr.isatty()
+    start = time.perf_counter()
+    rows = []
+    for seed, groups in enumerate(group_counts(args.count, args.max_groups)):
+        if tty:
+            elapsed = time.perf_counter() - start
+            print(
+                f"\r\033[Kmechanism {seed + 1}/{args.count} (seed {seed}, {groups} groups), "
+                f"{elapsed:.0f} s elapsed",
+                end="",
+                file=sys.stderr,
+                flush=True,
+            )
+        rows.append(one(groups, seed))
+    if tty:
+        print("\r\033[K", end="", file=sys.stderr, flush=True)
+    report(rows, args.slowest)
+    print(f"  wall time {time.perf_counter() - start:.1f} s")
 
 
 if __name__ == "__main__":
