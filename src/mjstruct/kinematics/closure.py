@@ -558,7 +558,7 @@ def _continue(
     win = _Window(k, path.points.shape[1])
     wdir, wend = np.zeros(0), total
     s_last, step = 0.0, STATION_STEP
-    alone = False  # True from a stuck window station until a station closes alone
+    alone = False  # True from a stuck window station until the step grows back
     for _ in range(20000):
         if s_last >= total:
             break
@@ -663,8 +663,10 @@ def _continue(
             S.append(s_new)
             TT.append(tn)
             DD.append(_finite(Dn))
-            alone = False
             step = min(2.0 * step, STATION_STEP)
+            # back to the window once the step has grown to its spacing (near an edge
+            # a fresh window would only get stuck again at its front)
+            alone = step < WINDOW_STEP
             s_last = s_new
         else:
             step *= 0.5
