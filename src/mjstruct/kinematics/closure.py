@@ -657,9 +657,11 @@ def _continue(
         fine = Dn is not None and bool(
             _agreement(TT[-1][None], DD[-1][None], tn[None], Dn[None], np.array([ds1]))[0]
         )
-        if fine or step <= 1e-4:
-            if Dn is None:  # the edge of the feasible range
-                return np.array(S), np.array(TT), np.array(DD), D0, s_new
+        if not fine and step <= 1e-4:
+            # the edge of the feasible range: no station closes, or the one that does
+            # is not on the branch followed (across a fold, where the two meet)
+            return np.array(S), np.array(TT), np.array(DD), D0, s_new
+        if fine and Dn is not None:
             S.append(s_new)
             TT.append(tn)
             DD.append(_finite(Dn))
