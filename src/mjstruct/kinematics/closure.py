@@ -602,7 +602,7 @@ def _continue(
             taken = 0
             if c:
                 ds = win.s[:c] - np.append(s_last, win.s[: c - 1])
-                fits = (ds <= 1e-4) | _agreement(
+                fits = _agreement(
                     np.vstack([TT[-1], win.t[: c - 1]]),
                     np.vstack([DD[-1], _finite(D[: c - 1])]),
                     win.t[:c],
@@ -624,7 +624,13 @@ def _continue(
             live[:taken] = False
             win.advance(R, J, D, rmax, e, bad, closed, live)
             win.drop_front(taken)
-            if refused:
+            if refused and float(win.s[0]) - s_last <= 1e-4:
+                # refused at the smallest step (a root of another branch near a fold):
+                # sought alone from a fresh guess, where a refusal there is the edge
+                step = float(win.s[0]) - s_last
+                win.drop_front(win.size)
+                alone = True
+            elif refused:
                 # closed, but too far along a curved path (or on another branch): a
                 # station halfway first; a second refusal guesses it again
                 mid = np.array([0.5 * (s_last + float(win.s[0]))])
@@ -634,16 +640,17 @@ def _continue(
                 g = win.guess(mid, S, TT, DD, ahead=False)
                 win.insert(np.zeros(1, np.intp), mid, path.at(mid), g)
                 continue
-            front_stuck = win.size > 0 and bool(stuck[taken])
-            renewed = win.renew(stuck[taken:], S, TT, DD)
-            if not front_stuck or renewed[0]:
-                win.split_disagreeing()
-                continue
-            # stuck at the front with nothing new known: sought alone, the step halving
-            # (as one station at a time) until one closes or the path is past the edge
-            step = float(win.s[0]) - s_last
-            win.drop_front(win.size)
-            alone = True
+            else:
+                front_stuck = win.size > 0 and bool(stuck[taken])
+                renewed = win.renew(stuck[taken:], S, TT, DD)
+                if not front_stuck or renewed[0]:
+                    win.split_disagreeing()
+                    continue
+                # stuck at the front with nothing new known: sought alone, the step
+                # halving (one station at a time) until one closes or the edge is reached
+                step = float(win.s[0]) - s_last
+                win.drop_front(win.size)
+                alone = True
         # one station alone (after a stuck window station, or outside the feasible range)
         s_new = min(s_last + step, path.next_turn(s_last))
         ds1 = s_new - s_last
