@@ -6,6 +6,8 @@ from functools import cache
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.testing import random_geometry, random_mechanism
@@ -27,7 +29,12 @@ def _groups(seed: int) -> int:
 @cache
 def _sweeps(seed: int) -> tuple[KinematicModel, Motion, dict[int, Motion]]:
     """The model, its short sweep, and the fine sweep from the reference on each side."""
-    m = random_geometry(random_mechanism(_groups(seed), seed=seed), seed)
+    return _sweeps_of(_groups(seed), seed)
+
+
+def _sweeps_of(groups: int, seed: int) -> tuple[KinematicModel, Motion, dict[int, Motion]]:
+    """:func:`_sweeps` for random mechanism ``seed`` of ``groups`` groups."""
+    m = random_geometry(random_mechanism(groups, seed=seed), seed)
     model = KinematicModel.build(m)
     q0 = float(model.q_ref[0])
     coarse = model.motion(q0 + np.linspace(-SPAN, SPAN, FRAMES))
@@ -92,3 +99,26 @@ def test_frames_the_short_sweep_misses_lie_beyond_where_the_fine_sweep_stops(
     for i in missed:
         side, k = _fine_frame(int(i))
         assert k >= _fine_limit(fine[side]), (i, k)
+
+
+def _consistent(model: KinematicModel, coarse: Motion, fine: dict[int, Motion]) -> None:
+    """Up to where the fine sweeps stop assembling, the short sweep assembles and gives
+    their configurations.  (Past that edge frames are missing, or found by continuation
+    across a downstream group's gap, which the analysis words as no physical motion.)"""
+    for i in range(FRAMES):
+        side, k = _fine_frame(i)
+        if k >= _fine_limit(fine[side]):
+            continue
+        assert coarse.valid[i], (i, k)
+        gap = np.abs(_centres(model, coarse, i) - _centres(model, fine[side], k)).max()
+        assert gap <= 1e-9 * model.scale, (i, gap / model.scale)
+
+
+@settings(max_examples=10, deadline=None, derandomize=True)
+@given(groups=st.integers(1, 10), seed=st.integers(0, 10**6))
+def test_a_short_sweep_of_any_random_mechanism_keeps_the_branch_of_a_fine_one(
+    groups: int, seed: int
+) -> None:
+    """Random mechanisms with random geometry (dyads, triads, class-IV groups, multiple
+    joints, sliders): the ±3° sweep in 13 frames agrees with sweeps 24 times finer."""
+    _consistent(*_sweeps_of(groups, seed))
