@@ -1,4 +1,4 @@
-"""Short sweeps of the completeness benchmark's mechanisms 7, 23, 41, 53 keep their branch."""
+"""Short sweeps of random mechanisms keep the branch of a fine sweep (7, 23, 41, 53; any)."""
 
 from __future__ import annotations
 
