@@ -12,8 +12,10 @@ runs one numpy Newton over all frames from the linearly interpolated stations, a
 gives ψ' = -g_q / g_ψ.  The plug-in's :func:`~mjstruct.kinematics.closure.close`
 gives the same unknown (the rotation of link 2 from the reference) with t' and t''.
 
-Both are timed side by side in one run (``timing.race``); the agreement of ψ with the
-plug-in's unknown is printed, and the number of ``evaluate()`` calls of the plug-in.
+Both are timed side by side in one run (``timing.race``), on a full turn of the crank
+and on a rocking input (from the reference back to -1 rad, then to +1 rad: the path
+turns once); the agreement of ψ with the plug-in's unknown is printed, and the number
+of ``evaluate()`` calls of the plug-in.
 
 Run: ``python benchmarks/bench_closure.py [--frames N] [--repeat N]``.
 """
@@ -136,9 +138,16 @@ def main() -> None:
     args = ap.parse_args()
     model = KinematicModel.build(read_mechanism(example_path("class-iv-seed003")))
     mech = ClassIV()
-    q = model.sweep(args.frames)
-    qv = q[:, 0] - model.q_ref[0]
+    compare("full turn", model, mech, model.sweep(args.frames), args.repeat)
+    # a rocking input: the path goes from the reference back to -1 rad, turns, and
+    # sweeps to +1 rad (the continuation's stations meet one turn of the path)
+    rocking = model.q_ref + np.linspace(-1.0, 1.0, args.frames)[:, None]
+    compare("rocking ±1 rad", model, mech, rocking, args.repeat)
 
+
+def compare(label: str, model: KinematicModel, mech: ClassIV, q: Arr, repeat: int) -> None:
+    """Race the plug-in's closure against the hand-written one on frames ``q``; print."""
+    qv = q[:, 0] - model.q_ref[0]
     calls = [0]
     real = closure.evaluate
 
@@ -153,9 +162,9 @@ def main() -> None:
     agree = float(np.abs(np.angle(np.exp(1j * (psi - sol.t[:, 0])))).max())
     agree1 = float(np.abs(psi1 - sol.t1[:, 0]).max())
     t_ours, t_hand = race(
-        [lambda: closure.close(model, q), lambda: hand_written(mech, qv)], args.repeat
+        [lambda: closure.close(model, q), lambda: hand_written(mech, qv)], repeat
     )
-    print(f"class-IV closure, {args.frames} frames (median of {args.repeat}, raced)")
+    print(f"class-IV closure, {label}, {q.shape[0]} frames (median of {repeat}, raced)")
     print(f"  hand-written batched Newton (ψ, ψ')      {t_hand * 1e3:8.2f} ms   1.00x")
     print(
         f"  plug-in closure.close (t, t', t'')       {t_ours * 1e3:8.2f} ms   "
