@@ -1,10 +1,13 @@
-"""Shared fixtures: paths of shipped examples."""
+"""Shared fixtures: paths of shipped examples, a count of the closure's evaluations."""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
+
+from mjstruct.kinematics import closure
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "catalogs" / "examples"
@@ -13,3 +16,17 @@ EXAMPLES = ROOT / "catalogs" / "examples"
 @pytest.fixture
 def examples() -> Path:
     return EXAMPLES
+
+
+@pytest.fixture
+def closure_evaluations(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """Calls of ``evaluate()`` made by the closure, in ``[0]`` (assign 0 to restart)."""
+    calls = [0]
+    real = closure.evaluate
+
+    def counting(*args: Any, **kwargs: Any) -> Any:
+        calls[0] += 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(closure, "evaluate", counting)
+    return calls

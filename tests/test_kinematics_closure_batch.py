@@ -3,8 +3,6 @@ at a time."""
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 import pytest
 
@@ -18,22 +16,10 @@ def _model(name: str) -> KinematicModel:
     return KinematicModel.build(read_mechanism(example_path(name)))
 
 
-def _counted(monkeypatch: pytest.MonkeyPatch) -> list[int]:
-    calls = [0]
-    real = closure.evaluate
-
-    def counting(*args: Any, **kwargs: Any) -> Any:
-        calls[0] += 1
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(closure, "evaluate", counting)
-    return calls
-
-
 @pytest.mark.parametrize("name", ["class-iv-seed003", "zhivago"])
-def test_evaluations_do_not_grow_with_frames(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_evaluations_do_not_grow_with_frames(name: str, closure_evaluations: list[int]) -> None:
     model = _model(name)
-    calls = _counted(monkeypatch)
+    calls = closure_evaluations
     counts = []
     for frames in (36, 360, 3600):
         calls[0] = 0
@@ -46,10 +32,12 @@ def test_evaluations_do_not_grow_with_frames(name: str, monkeypatch: pytest.Monk
     assert max(counts) <= 160, counts
 
 
-def test_one_station_at_a_time_costs_more(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_one_station_at_a_time_costs_more(
+    monkeypatch: pytest.MonkeyPatch, closure_evaluations: list[int]
+) -> None:
     model = _model("class-iv-seed003")
     q = model.sweep(3600)
-    calls = _counted(monkeypatch)
+    calls = closure_evaluations
     closure.close(model, q)
     batched = calls[0]
     monkeypatch.setattr(closure, "MAX_BLOCK", 1)

@@ -8,8 +8,6 @@ and polynomials the Hermite interpolation must reproduce.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 import pytest
 
@@ -23,21 +21,9 @@ def _model(name: str) -> KinematicModel:
     return KinematicModel.build(read_mechanism(example_path(name)))
 
 
-def _counted(monkeypatch: pytest.MonkeyPatch) -> list[int]:
-    calls = [0]
-    real = closure.evaluate
-
-    def counting(*args: Any, **kwargs: Any) -> Any:
-        calls[0] += 1
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(closure, "evaluate", counting)
-    return calls
-
-
-def test_class_iv_closes_in_few_evaluations_and_two_rounds(monkeypatch: pytest.MonkeyPatch):
+def test_class_iv_closes_in_few_evaluations_and_two_rounds(closure_evaluations: list[int]):
     model = _model("class-iv-seed003")
-    calls = _counted(monkeypatch)
+    calls = closure_evaluations
     sol = closure.close(model, model.sweep(3600))
     assert sol.converged.all() and sol.error.max() <= closure.NEWTON_TOL
     assert sol.jumps == () and sol.reseeded == ()
