@@ -624,13 +624,7 @@ def _continue(
             live[:taken] = False
             win.advance(R, J, D, rmax, e, bad, closed, live)
             win.drop_front(taken)
-            if refused and float(win.s[0]) - s_last <= 1e-4:
-                # refused at the smallest step (a root of another branch near a fold):
-                # sought alone from a fresh guess, where a refusal there is the edge
-                step = float(win.s[0]) - s_last
-                win.drop_front(win.size)
-                alone = True
-            elif refused:
+            if refused and float(win.s[0]) - s_last > 1e-4:
                 # closed, but too far along a curved path (or on another branch): a
                 # station halfway first; a second refusal guesses it again
                 mid = np.array([0.5 * (s_last + float(win.s[0]))])
@@ -640,17 +634,19 @@ def _continue(
                 g = win.guess(mid, S, TT, DD, ahead=False)
                 win.insert(np.zeros(1, np.intp), mid, path.at(mid), g)
                 continue
-            else:
+            if not refused:
                 front_stuck = win.size > 0 and bool(stuck[taken])
                 renewed = win.renew(stuck[taken:], S, TT, DD)
                 if not front_stuck or renewed[0]:
                     win.split_disagreeing()
                     continue
-                # stuck at the front with nothing new known: sought alone, the step
-                # halving (one station at a time) until one closes or the edge is reached
-                step = float(win.s[0]) - s_last
-                win.drop_front(win.size)
-                alone = True
+            # refused at the smallest step (a root of another branch near a fold), or
+            # stuck at the front with nothing new known: sought alone, the step halving
+            # (one station at a time) until one closes or the edge is reached, where a
+            # refusal at the smallest step is the edge
+            step = float(win.s[0]) - s_last
+            win.drop_front(win.size)
+            alone = True
         # one station alone (after a stuck window station, or outside the feasible range)
         s_new = min(s_last + step, path.next_turn(s_last))
         ds1 = s_new - s_last
@@ -797,11 +793,6 @@ class _Window:
         known: int = 0,
     ) -> None:
         """New stations at ``sv`` (driver values ``qv``), guesses ``g``, before ``at``."""
-        new = self._fresh(sv, qv, g, known)
-        if (at == self.size).all():  # appended (filling the window): no general insert
-            for name, v in new.items():
-                setattr(self, name, np.concatenate([getattr(self, name), v]))
-            return
         # np.insert's result in one gather per field: new station j lands at at[j] + j
         n, m = self.size, sv.size
         slot = np.zeros(n + m, bool)
@@ -809,7 +800,7 @@ class _Window:
         perm = np.empty(n + m, np.intp)
         perm[~slot] = np.arange(n)
         perm[slot] = n + np.arange(m)
-        for name, v in new.items():
+        for name, v in self._fresh(sv, qv, g, known).items():
             setattr(self, name, np.concatenate([getattr(self, name), v])[perm])
 
     def drop_front(self, n: int) -> None:
