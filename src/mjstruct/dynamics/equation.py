@@ -297,7 +297,7 @@ def _seeded(table: Motion, q: FloatArray, order: int, rates: FloatArray) -> Moti
         t, err, rounds, ok = newton(model, q, guess, None, CLOSURE_TOL, 30)
         if not ok.all():
             return None
-        t1, t2 = derivatives(model, q, t, rates)
+        t1, t2 = derivatives(model, q, t, rates, order=order)
         # the kinematics' branch-jump test on frames and points in order of q (pairs of
         # two frames were the kinematics' to judge)
         qa = np.concatenate([qt, x])

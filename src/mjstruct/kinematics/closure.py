@@ -98,7 +98,8 @@ class Closure:
     """Closure unknowns over the frames and how well they close.
 
     ``t``, ``t1``, ``t2``: the unknowns (frames × unknowns) and their first and second
-    derivatives along the path; ``error`` the achieved closure error per frame (max
+    derivatives along the path (``t2`` NaN when :func:`close` was asked for less
+    than order 2); ``error`` the achieved closure error per frame (max
     |R|, in lengths); ``iterations`` the Newton iterations on the full frame set;
     ``converged`` per-frame mask; ``jumps`` frames whose change of the unknowns from
     the previous frame (frame 0: from the reference) disagrees with the integrated
@@ -131,12 +132,6 @@ def closing_steps(model: KinematicModel) -> tuple[int, ...] | None:
     return None if len(need) == len(steps) else tuple(sorted(need))
 
 
-def _tile_modes(K: Modes | None, n: int) -> Modes | None:
-    if K is None or n == 1:
-        return K
-    return {k: (np.tile(v, n) if isinstance(v, np.ndarray) else v) for k, v in K.items()}
-
-
 def closure_jets(
     model: KinematicModel,
     q: FloatArray,
@@ -147,42 +142,27 @@ def closure_jets(
 ) -> tuple[FloatArray, FloatArray, FloatArray | None]:
     """R (F, e), dR/dt (F, e, k) and, given ``rates``, dR/dτ at fixed t: one evaluation.
 
-    The seeds are stacked along the frames (one block per unknown, and one with
-    t' = 0 when ``rates`` is given), so a Newton iteration or a tangent costs one call
-    of :func:`~mjstruct.kinematics.evaluate.evaluate` whatever the number of unknowns.
-    With ``rates`` the Jacobian is the difference of two blocks (rounding of the
-    larger one); without, each block is a column exactly.
+    One seed per unknown (and one along ``rates`` with t' = 0 when given) on the
+    evaluation's seed axis: the positions are computed once, and a Newton iteration
+    or a tangent costs one call of :func:`~mjstruct.kinematics.evaluate.evaluate`
+    whatever the number of unknowns; the first derivative along each seed is a column exactly.
     """
     F, k = t.shape
     lead = 0 if rates is None else 1
     n = k + lead
-    seeds = np.zeros((n, F, k))
-    for j in range(k):
-        seeds[lead + j, :, j] = 1.0
-    if n == 1:
-        qs, ts = q, t
-    else:
-        # n copies stacked along the frames (concatenate: less call overhead than
-        # broadcast_to + reshape on the few frames of a continuation station)
-        qs = np.concatenate([q] * n)
-        ts = np.concatenate([t] * n)
-    ev = evaluate(
-        model,
-        qs,
-        order=1,
-        rates=np.zeros(q.shape[1]) if rates is None else rates,
-        t=ts,
-        t1=seeds.reshape(n * F, k),
-        K=_tile_modes(K, n),
-        only=only,
-    )
-    R = ev.residual_matrix(0)[:F]
-    R1 = ev.residual_matrix(1).reshape(n, F, -1)
+    seeds = np.zeros((n, 1, k))
+    seeds[lead:, 0, :] = np.eye(k)
+    dq = np.zeros((n, q.shape[1]))
+    if rates is not None:
+        dq[0] = rates
+    ev = evaluate(model, q, order=1, rates=dq, t=t, t1=seeds, K=K, only=only)
+    R = ev.residual_matrix(0)
+    R1 = ev.residual_matrix(1)
+    if R1.shape[0] != n or R1.ndim != 3:  # derivatives that depend on no seed
+        R1 = np.broadcast_to(R1, (n, F, R.shape[1]))
     # (seed, frame, equation) -> (frame, equation, seed): np.moveaxis(·, 0, -1) as a
     # plain transpose
-    if rates is None:
-        return R, R1.transpose(1, 2, 0), None
-    return R, (R1[1:] - R1[0]).transpose(1, 2, 0), R1[0]
+    return R, R1[lead:].transpose(1, 2, 0), (R1[0] if lead else None)
 
 
 def closure_jacobian(
@@ -239,7 +219,7 @@ def newton(
     frames still iterating (a step halved where it would not assemble or would more
     than double the error is one more).
     """
-    t, err, rounds, ok, _ = _newton(model, q, t0, K, tol, maxiter, closing_steps(model))
+    t, err, rounds, ok, _, _ = _newton(model, q, t0, K, tol, maxiter, closing_steps(model))
     return t, err, rounds, ok
 
 
@@ -253,15 +233,19 @@ def _newton(
     only: tuple[int, ...] | None,
     rates: FloatArray | None = None,
     max_rounds: int | None = None,
-) -> tuple[FloatArray, FloatArray, int, BoolArray, FloatArray]:
-    """:func:`newton`, also returning dR/dt at the final t (with ``rates``: dt/dτ).
+) -> tuple[FloatArray, FloatArray, int, BoolArray, FloatArray, FloatArray | None]:
+    """:func:`newton`, also returning dR/dt at the final t and, with ``rates``, dt/dτ.
 
     One evaluation per round gives the residual at the trial point and its Jacobian:
     the line search is the next round (a trial that does not assemble, or more than
-    doubles max |R|, is halved back toward the last accepted point, at most 8 times).
-    A frame stops after ``2 * maxiter`` evaluations, halvings included, or where even
-    the halved trial does not assemble.  ``max_rounds`` stops every frame after that
-    many rounds (open frames not converged).
+    doubles max |R| while outside ``tol``, is halved back toward the last accepted
+    point, at most 8 times).  With ``rates``, the rounds from the second on carry one
+    more seed, dR/dτ, so the tangent at the final point costs no evaluation of its
+    own; no frame stops at the first round then (its step is at the rounding level
+    where the guess is already closed).  A frame stops after ``2 * maxiter`` evaluations,
+    halvings included, or where even the halved trial does not assemble.
+    ``max_rounds`` stops every frame after that many rounds (open frames not
+    converged).
     """
     F = t0.shape[0]
     scale = model.geometry.scale
@@ -275,7 +259,8 @@ def _newton(
     err = np.full(F, np.inf)
     active = np.ones(F, bool)
     ok = np.zeros(F, bool)
-    last: FloatArray | None = None  # dR/dt (or dt/dτ) at each frame's final point
+    last: FloatArray | None = None  # dR/dt at each frame's final point
+    tangent = None if rates is None else np.full_like(t0, np.nan)  # dt/dτ there
     rounds = 0
     while active.any() and (max_rounds is None or rounds < max_rounds):
         rounds += 1
@@ -285,13 +270,14 @@ def _newton(
         idx = np.arange(F) if every else np.flatnonzero(active)
         sel: slice | npt.NDArray[np.intp] = slice(None) if every else idx
         tries[sel] += 1
+        seed = None if rounds == 1 else rates
         if every:
-            R, J, Rd = closure_jets(model, q, t, K, rates, only)
+            R, J, Rd = closure_jets(model, q, t, K, seed, only)
         else:
-            R, J, Rd = closure_jets(model, q[idx], t[idx], _subset_modes(K, idx), rates, only)
+            R, J, Rd = closure_jets(model, q[idx], t[idx], _subset_modes(K, idx), seed, only)
         rmax = np.abs(R).max(axis=1)
-        bad = (~np.isfinite(rmax) | (rmax > 2.0 * rbase[sel] + 1e-300)) & (halved[sel] < 8)
-        bad &= evals[sel] > 0
+        bad = ~np.isfinite(rmax) | ((rmax > 2.0 * rbase[sel]) & (rmax > tol * scale))
+        bad &= (halved[sel] < 8) & (evals[sel] > 0)
         g: slice | npt.NDArray[np.intp] = sel
         if bad.any():
             b = idx[bad]
@@ -308,9 +294,13 @@ def _newton(
         rbase[g] = rmax
         evals[g] += 1
         if last is None:
-            last = np.full((F, *(J.shape[1:] if rates is None else (J.shape[2],))), np.nan)
-        last[g] = J if rates is None or Rd is None else -_solve(J, Rd)
+            last = np.full((F, *J.shape[1:]), np.nan)
+        last[g] = J
+        if tangent is not None and Rd is not None:
+            tangent[g] = -_solve(J, Rd)
         done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
+        if rates is not None and rounds == 1:
+            done[:] = False
         spent = ~done & ((evals[g] >= maxiter) | (tries[g] >= 2 * maxiter) | ~np.isfinite(e))
         stop = done | spent
         if stop.any():
@@ -324,7 +314,7 @@ def _newton(
         alpha[g], halved[g] = 1.0, 0
         t[g] = base[g] + step[g]
     assert last is not None
-    return base, err, rounds, ok | (err <= tol), last
+    return base, err, rounds, ok | (err <= tol), last, tangent
 
 
 def _station(
@@ -905,6 +895,7 @@ def close(
     tol: float = NEWTON_TOL,
     maxiter: int = 30,
     reseed: bool = True,
+    order: int = 2,
 ) -> Closure:
     """Solve the closure unknowns on frames ``q`` (frames × drivers), then their derivatives.
 
@@ -922,6 +913,8 @@ def close(
     Frames equal to the reference close there (unknowns 0).  With ``reseed``, frames
     the path did not reach (beyond an infeasible stretch) are sought by continuation
     from the reference the other way (:func:`_reseed`); ``reseeded`` lists them.
+    ``order`` 2 gives t''; below 2, ``t2`` is NaN (t' is always computed: the
+    branch-jump test reads it).
     """
     k = model.plan.unknowns
     q_ref = model.q_ref
@@ -937,17 +930,21 @@ def close(
     DD2 = _station_curvature(model, path, S, TT, DD, K, only)
     guess = _hermite(S, TT, DD, path.arc[1:], DD2)
     reached = path.arc[1:] < gap
+    # (each round also gives dt/dτ at its point: at the last, t' costs nothing more)
+    t1: FloatArray | None
     if reached.all():
-        t, err, iters, ok, J = _newton(model, q, guess, K, tol, maxiter, only)
+        t, err, iters, ok, J, t1 = _newton(model, q, guess, K, tol, maxiter, only, rate)
     else:
         F, r = q.shape[0], np.flatnonzero(reached)
         t, err, ok = np.full((F, k), np.nan), np.full(F, np.nan), np.zeros(F, bool)
         J = np.full((F, model.plan.equations, k), np.nan)
+        t1 = np.full((F, k), np.nan)
         iters = 0
         if r.size:
-            t[r], err[r], iters, ok[r], J[r] = _newton(
-                model, q[r], guess[r], _subset_modes(K, r), tol, maxiter, only
+            t[r], err[r], iters, ok[r], J[r], t1[r] = _newton(
+                model, q[r], guess[r], _subset_modes(K, r), tol, maxiter, only, rate
             )
+    assert t1 is not None
     # frames Newton missed among those reached (a prefix of the frames: the arc grows
     # along them) are walked to from a closed neighbour; past the gap it would only
     # walk the same path into the same edge
@@ -956,10 +953,12 @@ def close(
         Kn = K if n == q.shape[0] else _subset_modes(K, np.arange(n))
         fixed = _repair(model, q[:n], t[:n], err[:n], ok[:n], Kn, tol, maxiter)
         if fixed.size:
-            J[fixed] = closure_jets(
-                model, q[fixed], t[fixed], _subset_modes(K, fixed), None, only
-            )[1]
-    t1, t2 = _derivatives(model, q, t, rate, K, J, only)
+            _, J[fixed], Rd = closure_jets(
+                model, q[fixed], t[fixed], _subset_modes(K, fixed), rate, only
+            )
+            assert Rd is not None
+            t1[fixed] = -_solve(J[fixed], Rd)
+    t2 = _curvature(model, q, t, t1, rate, K, J, only) if order >= 2 else np.full_like(t, np.nan)
     # 4. the reference configuration closes by construction (every unknown 0), and
     # frames the path from frame 0 did not reach are sought from the reference again
     at_ref = np.flatnonzero(~ok & (np.abs(q - q_ref).max(axis=1) == 0))
@@ -972,10 +971,10 @@ def close(
         ok[at_ref] = e0 <= STALL_ERROR * tol
         if ok[at_ref].any():
             r = at_ref[ok[at_ref]]
-            t1[r], t2[r] = derivatives(model, q[r], t[r], rate, _subset_modes(K, r))
+            t1[r], t2[r] = derivatives(model, q[r], t[r], rate, _subset_modes(K, r), order)
     reseeded: tuple[int, ...] = ()
     if reseed and not ok.all():
-        reseeded = _reseed(model, q, rate, K, tol, maxiter, t, t1, t2, err, ok)
+        reseeded = _reseed(model, q, rate, K, tol, maxiter, t, t1, t2, err, ok, order)
     if q.shape[1] == 1 and D0 is not None and dir0[0] != 0:
         d0 = D0 * (rate[0] / dir0[0])  # the tangent is linear in the driver rates
     else:
@@ -998,6 +997,7 @@ def _reseed(
     t2: FloatArray,
     err: FloatArray,
     ok: BoolArray,
+    order: int = 2,
 ) -> tuple[int, ...]:
     """Continue from the reference again to the frames the path did not reach.
 
@@ -1025,7 +1025,14 @@ def _reseed(
         pick = pick[np.argsort(dist[pick], kind="stable")]
         frames = miss[pick]
         sol = close(
-            model, q_ref + d[pick], rate, _subset_modes(K, frames), tol, maxiter, reseed=False
+            model,
+            q_ref + d[pick],
+            rate,
+            _subset_modes(K, frames),
+            tol,
+            maxiter,
+            reseed=False,
+            order=order,
         )
         got = sol.converged
         fr = frames[got]
@@ -1130,28 +1137,34 @@ def derivatives(
     t: FloatArray,
     rate: FloatArray,
     K: Modes | None = None,
+    order: int = 2,
 ) -> tuple[FloatArray, FloatArray]:
-    """t' and t'' along the path: ``R_t t' = -R_q q'`` then ``R_t t'' = -R''|_{t''=0}``."""
+    """t' and t'' along the path: ``R_t t' = -R_q q'`` then ``R_t t'' = -R''|_{t''=0}``.
+
+    With ``order`` below 2, t'' is not computed (NaN).
+    """
     only = closing_steps(model)
-    _, J, _ = closure_jets(model, q, t, K, None, only)
-    return _derivatives(model, q, t, rate, K, J, only)
+    _, J, Rd = closure_jets(model, q, t, K, rate, only)
+    assert Rd is not None
+    t1 = -_solve(J, Rd)
+    if order < 2:
+        return t1, np.full_like(t1, np.nan)
+    return t1, _curvature(model, q, t, t1, rate, K, J, only)
 
 
-def _derivatives(
+def _curvature(
     model: KinematicModel,
     q: FloatArray,
     t: FloatArray,
+    t1: FloatArray,
     rate: FloatArray,
     K: Modes | None,
     J: FloatArray,
     only: tuple[int, ...] | None,
-) -> tuple[FloatArray, FloatArray]:
-    """:func:`derivatives` given the Jacobian dR/dt at ``t``."""
-    ev = evaluate(model, q, order=1, rates=rate, t=t, K=K, only=only)
-    t1 = -_solve(J, ev.residual_matrix(1))
+) -> FloatArray:
+    """t'' given t' and the Jacobian dR/dt at ``t``: one evaluation of order 2."""
     ev = evaluate(model, q, order=2, rates=rate, t=t, t1=t1, K=K, only=only)
-    t2 = -_solve(J, ev.residual_matrix(2))
-    return t1, t2
+    return -_solve(J, ev.residual_matrix(2))
 
 
 def _station_curvature(
@@ -1166,8 +1179,8 @@ def _station_curvature(
     """t'' at the stations, from one evaluation; None for one station, or off a single
     run of a path of several drivers.
 
-    Seeds t' = DD (block 0) and DD + e_j (block j) at order 2: block 0 gives R'' at
-    t'' = 0, and the first-order parts' differences the columns of dR/dt, so
+    Seeds t' = DD along the path (seed 0) and t' = e_j at rest (seed j) at order 2:
+    seed 0 gives R'' at t'' = 0, and seed j's first derivative column j of dR/dt, so
     ``R_t t'' = -R''`` is solved without another evaluation of the Jacobian.  With one
     driver the path turns only by reversing (dq/ds = ±1): t'' is the same both ways,
     and the tangents are taken along the first run's direction.
@@ -1183,21 +1196,25 @@ def _station_curvature(
         sign[twin] = [path.direction_after(float(S[i]))[0] * path.dirs[0, 0] for i in twin]
         DD = DD * sign[:, None]
     n, k = S.size, TT.shape[1]
-    seeds = np.concatenate([DD] + [DD + np.eye(k)[j] for j in range(k)])
-    sv = np.tile(S, k + 1)
+    seeds = np.zeros((k + 1, n, k))
+    seeds[0] = DD
+    seeds[1:] = np.eye(k)[:, None, :]
+    dq = np.zeros((k + 1, path.points.shape[1]))
+    dq[0] = path.dirs[0]
     ev = evaluate(
         model,
-        np.tile(path.at(S), (k + 1, 1)),
+        path.at(S),
         order=2,
-        rates=path.dirs[0],
-        t=np.tile(TT, (k + 1, 1)),
+        rates=dq,
+        t=TT,
         t1=seeds,
-        K=None if K is None else _subset_modes(K, path.frames_at(sv)),
+        K=None if K is None else _subset_modes(K, path.frames_at(S)),
         only=only,
     )
-    R1 = ev.residual_matrix(1).reshape(k + 1, n, -1)
-    J = (R1[1:] - R1[0]).transpose(1, 2, 0)
-    return _finite(-_solve(J, ev.residual_matrix(2)[:n]))
+    R1 = np.broadcast_to(ev.residual_matrix(1), (k + 1, n, model.plan.equations))
+    J = R1[1:].transpose(1, 2, 0)
+    R2 = np.broadcast_to(ev.residual_matrix(2), (k + 1, n, model.plan.equations))
+    return _finite(-_solve(J, R2[0]))
 
 
 def _hermite(

@@ -70,11 +70,17 @@ class Evaluation:
         return self.poses[link].point(self.geom.centres[joint])
 
     def residual_matrix(self, k: int = 0) -> FloatArray:
-        """Derivative ``k`` of the closure equations, shape (frames, equations)."""
+        """Derivative ``k`` of the closure equations, shape (frames, equations).
+
+        With seeds (see :func:`evaluate`), derivatives are (seeds, frames, equations).
+        """
         if len(self.residuals) == 1:  # one equation: a column, without np.stack's checks
-            out: FloatArray = self.residuals[0][k][:, None].copy()
+            out: FloatArray = self.residuals[0][k][..., None].copy()
             return out
-        return np.stack([r[k] for r in self.residuals], axis=-1)
+        parts = [r[k] for r in self.residuals]
+        if len({p.shape for p in parts}) > 1:  # a derivative that depends on no seed
+            parts = list(np.broadcast_arrays(*parts))
+        return np.stack(parts, axis=-1)
 
 
 def evaluate(
@@ -95,7 +101,10 @@ def evaluate(
     ----------
     model : the mechanism, its geometry and its plan.
     order : 0 positions, 1 with first derivatives, 2 with second derivatives.
-    rates : dq_i/dτ for each driver (default 1: analogs with respect to q).
+    rates : dq_i/dτ for each driver (default 1: analogs with respect to q); or one
+        row per seed (seeds × drivers), with ``t1`` (and ``t2``) seeds × frames (or
+        1) × unknowns: then every derivative jet has a leading seed axis (seeds ×
+        frames) and the positions, computed once, serve all seeds.
     t, t1, t2 : closure unknowns (frames × unknowns) and their derivatives.
     K : assembly mode per dyad step (±1, scalar or per frame); missing: chosen to
         reproduce the reference configuration (see :func:`reference_mode`).
@@ -106,12 +115,15 @@ def evaluate(
     plan, geom, m = model.plan, model.geometry, model.mechanism
     F = int(q.shape[0])
     zeros = np.zeros((F, plan.unknowns))
+    rate = np.ones(q.shape[1]) if rates is None else np.asarray(rates, float)
+    if rate.ndim == 2:  # one row per seed: broadcast against the frames
+        rate = rate[:, None, :]
     run = Run(
         mechanism=m,
         geometry=geom,
         q=q,
         order=order,
-        rates=np.ones(q.shape[1]) if rates is None else np.asarray(rates, float),
+        rates=rate,
         t=zeros if t is None else t,
         t1=zeros if t1 is None else t1,
         t2=zeros if t2 is None else t2,

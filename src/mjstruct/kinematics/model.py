@@ -202,7 +202,7 @@ class KinematicModel:
             # trouble is reported per frame below; one BLAS thread for the batched
             # small solves of Newton (threads only add wake-up cost there)
             with np.errstate(all="ignore"), one_blas_thread():
-                sol = close(self, qa, rate, tol=tol)
+                sol = close(self, qa, rate, tol=tol, order=order)
             # frames that did not close carry no configuration (null, reported)
             t = np.where(sol.converged[:, None], sol.t, np.nan)
             t1, t2 = sol.t1, sol.t2

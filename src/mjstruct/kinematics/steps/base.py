@@ -95,7 +95,10 @@ class Run:
     ``poses`` link -> pose (jets over the frames); ``first`` joint -> the first link
     placed that carries it; ``solved`` joint -> jet of a centre a dyad solved directly;
     ``residuals`` the closure equations' jets; ``diag`` step index -> (discriminant,
-    signed sine) of a dyad.
+    signed sine) of a dyad.  ``rates`` (drivers) and ``t1``, ``t2`` (frames ×
+    unknowns) may carry a leading seed axis (``rates`` seeds × 1 × drivers): the
+    derivative jets then broadcast to seeds × frames while the values stay per frame,
+    so steps index them on the last axis.
     """
 
     mechanism: Mechanism

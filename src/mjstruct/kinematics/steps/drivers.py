@@ -42,7 +42,7 @@ def _driver(s: Step, k: int, run: Run) -> None:
     base, driven = run.poses[s.base], s.links[0]
     sign = 1.0 if driven == joint.links[1] else -1.0
     dq = sign * (run.q[:, s.index] - run.geometry.driver_ref[s.joint])
-    dq1 = sign * run.rates[s.index]
+    dq1 = sign * run.rates[..., s.index]
     if s.kind == "driver-R":
         r = base.r * np.exp(1j * dq)
         w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
@@ -66,7 +66,7 @@ def _assume_slide(s: Step, k: int, run: Run) -> None:
     base = run.poses[s.base]
     A = base.point(C[s.joint])
     u = base.vector(run.geometry.axes[s.joint])
-    d, d1, d2 = run.t[:, i], run.t1[:, i], run.t2[:, i]
+    d, d1, d2 = run.t[:, i], run.t1[..., i], run.t2[..., i]
     X: Jet = [A[0] + d * u[0]]
     if run.order >= 1:
         X.append(A[1] + d1 * u[0] + d * u[1])
@@ -77,7 +77,7 @@ def _assume_slide(s: Step, k: int, run: Run) -> None:
 
 def _assume(s: Step, k: int, run: Run) -> None:
     i = s.index
-    w: Jet = [run.t1[:, i], run.t2[:, i]][: run.order]
+    w: Jet = [run.t1[..., i], run.t2[..., i]][: run.order]
     C = run.geometry.centres
     run.place(s.links[0], Pose(C[s.joint], run.centre(s.joint), np.exp(1j * run.t[:, i]), w))
 
