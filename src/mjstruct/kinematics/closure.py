@@ -84,6 +84,13 @@ REACH = 0.5
 #: guess its neighbours from and to test their agreement (Newton is then one or two
 #: steps from its root)
 SETTLED = 1e-6
+#: a window station converging quadratically (error e at most NEAR and 1/100 of the
+#: last, so the next is about e³/e_last²) whose next point is predicted within this
+#: fraction of the tolerance is taken at that point without evaluating it: a round
+#: less for most windows.  Its tangent is the one at the point evaluated (off by
+#: about the step, ~1e-7 at most): stations only guide the frames' own Newton
+PREDICTED = 1e-2
+NEAR = 1e-8
 #: a stuck window station is guessed again at most this often (then, at the front, it
 #: is sought alone): bounds the rounds where the path leaves the feasible range
 RENEWALS = 2
@@ -346,7 +353,7 @@ def _station(
         r = R[0]
         rmax = float(np.abs(r).max())
         finite = bool(np.isfinite(r).all())
-        if evals and halved < 8 and (not finite or rmax > 2.0 * rbase + 1e-300):
+        if evals and halved < 8 and (not finite or (rmax > 2.0 * rbase and rmax > tol * scale)):
             alpha *= 0.5
             halved += 1
             t = base + alpha * step
@@ -582,37 +589,44 @@ def _continue(
             rmax = np.abs(R).max(axis=1)
             finite = np.isfinite(rmax)
             e = rmax / scale
-            # a trial that does not assemble or more than doubles max |R| is halved back
-            bad = (~finite | (rmax > 2.0 * win.rbase + 1e-300)) & (win.evals > 0)
+            # a trial that does not assemble or more than doubles max |R| (outside the
+            # tolerance: not its rounding) is halved back
+            bad = (~finite | ((rmax > 2.0 * win.rbase) & (e > tol))) & (win.evals > 0)
             stalled = (e >= 0.5 * win.err) & (e <= STALL_ERROR * tol)
             closed = ~bad & finite & ((e <= tol) | stalled)
             D = -_solve(J, Rd)
+            newton = _newton_step(J, R)
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                near = ~bad & finite & (e <= NEAR) & (e <= 1e-2 * win.err)
+                near &= e * e * e <= PREDICTED * tol * win.err * win.err
+            at = np.where(near[:, None] & ~closed[:, None], win.t + newton, win.t)
+            ready = closed | near
             # accept the closed stations at the front while each agrees with the last
-            c = win.size if closed.all() else int(np.argmin(closed))
+            c = win.size if ready.all() else int(np.argmin(ready))
             taken = 0
             if c:
                 ds = win.s[:c] - np.append(s_last, win.s[: c - 1])
                 fits = _agreement(
-                    np.vstack([TT[-1], win.t[: c - 1]]),
+                    np.vstack([TT[-1], at[: c - 1]]),
                     np.vstack([DD[-1], _finite(D[: c - 1])]),
-                    win.t[:c],
+                    at[:c],
                     D[:c],
                     ds,
                 )
                 taken = c if fits.all() else int(np.argmin(fits))
                 S.extend(win.s[:taken].tolist())
-                TT.extend(win.t[:taken].copy())
+                TT.extend(at[:taken])
                 DD.extend(_finite(D[:taken]))
                 s_last = S[-1]
             refused = taken < c
-            stuck = ~closed & (
+            stuck = ~ready & (
                 (~finite & (win.evals == 0))
                 | (bad & (win.halved >= 8))
                 | (win.evals + 1 >= BLOCK_ROUNDS)
             )
             live = ~stuck
             live[:taken] = False
-            win.advance(R, J, D, rmax, e, bad, closed, live)
+            win.advance(newton, D, rmax, e, bad, ready, live)
             win.drop_front(taken)
             if refused and float(win.s[0]) - s_last > 1e-4:
                 # closed, but too far along a curved path (or on another branch): a
@@ -853,8 +867,7 @@ class _Window:
 
     def advance(
         self,
-        R: FloatArray,
-        J: FloatArray,
+        newton: FloatArray,
         D: FloatArray,
         rmax: FloatArray,
         e: FloatArray,
@@ -862,7 +875,8 @@ class _Window:
         closed: BoolArray,
         live: BoolArray,
     ) -> None:
-        """One round for the ``live`` stations: ``bad`` trials halved, Newton on the rest."""
+        """One round for the ``live`` stations: ``bad`` trials halved, the rest take
+        their Newton step (``newton``, the step from each station's trial point)."""
         first = int(np.argmax(live)) if live.any() else live.size
         g: slice | BoolArray
         if live[first:].all() and not bad[first:].any():
@@ -882,7 +896,7 @@ class _Window:
         self.d[g] = _finite(D[g])
         self.closed[g] = closed[g] | (e[g] <= SETTLED)
         self.evals[g] += 1
-        self.step[g] = _newton_step(J[g], R[g])
+        self.step[g] = newton[g]
         self.alpha[g], self.halved[g] = 1.0, 0
         self.t[g] = self.base[g] + self.step[g]
 
