@@ -5,20 +5,22 @@ Owns the iteration for groups of class III and higher: assume the angle of one l
 and drive the closure equations (a computed length against the given one) to zero.
 Newton runs on all frames at once with per-frame convergence masks; its Jacobian is
 analytic (the same jet propagation as the analogs, seeded on the unknowns; the seeds
-are stacked along the frames, so one iteration is one evaluation of the steps the
-closure reads).  Initial values come from continuation along the path starting at the
-reference configuration (where every unknown is 0, the rotation from the reference):
-stations not tied to the frames, a window of up to :data:`MAX_BLOCK` of them solved
-together by the same vectorised Newton (one evaluation per round for the whole
+sit on the evaluation's seed axis, positions computed once for all, so one iteration
+is one evaluation of the steps the closure reads).  Initial values come from
+continuation along the path starting at the reference configuration (where every
+unknown is 0, the rotation from the reference): stations not tied to the frames, a
+window of up to :data:`MAX_BLOCK` of them solved together by the same vectorised
+Newton (one evaluation per round for the whole
 window: stations far ahead start from rough guesses and close while the ones before
 them are accepted, in order, each checked against the tangent from the last), then a
 quintic Hermite prediction on every frame (the stations' t and t', and t'' from one
-more evaluation), close enough that Newton on the frames takes two rounds.  The
-number of evaluations depends on the path's length and curvature, not on the number
-of frames.
+more evaluation), close enough that Newton on the frames takes two rounds (the
+second also seeded along the path: it gives t').  The number of evaluations depends
+on the path's length and curvature, not on the number of frames.
 
-Afterwards the unknowns' derivatives follow from the differentiated closure
-equations, ``R_t t' = -R_q`` and ``R_t t'' = -R''``, so σ and κ stay exact.
+The unknowns' derivatives follow from the differentiated closure equations,
+``R_t t' = -R_q`` and ``R_t t'' = -R''`` (t'' by one more evaluation, when asked
+for), so σ and κ stay exact.
 
 This is Zinchenko's method for a class-IV mechanism [1]_: split the group into
 class-II groups by assuming one link's position, and iterate on one length until the
@@ -239,7 +241,6 @@ def _newton(
     maxiter: int,
     only: tuple[int, ...] | None,
     rates: FloatArray | None = None,
-    max_rounds: int | None = None,
 ) -> tuple[FloatArray, FloatArray, int, BoolArray, FloatArray, FloatArray | None]:
     """:func:`newton`, also returning dR/dt at the final t and, with ``rates``, dt/dτ.
 
@@ -251,8 +252,6 @@ def _newton(
     own; no frame stops at the first round then (its step is at the rounding level
     where the guess is already closed).  A frame stops after ``2 * maxiter`` evaluations,
     halvings included, or where even the halved trial does not assemble.
-    ``max_rounds`` stops every frame after that many rounds (open frames not
-    converged).
     """
     F = t0.shape[0]
     scale = model.geometry.scale
@@ -269,7 +268,7 @@ def _newton(
     last: FloatArray | None = None  # dR/dt at each frame's final point
     tangent = None if rates is None else np.full_like(t0, np.nan)  # dt/dτ there
     rounds = 0
-    while active.any() and (max_rounds is None or rounds < max_rounds):
+    while active.any():
         rounds += 1
         # while every frame iterates (the usual first rounds) the selections are
         # slices: views, not copies of the frames' arrays
