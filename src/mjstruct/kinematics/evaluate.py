@@ -129,13 +129,16 @@ def evaluate(
         t2=zeros if t2 is None else t2,
         modes=K if K is not None else {},
     )
-    if only is not None:
-        for k in only:
-            s = plan.steps[k]
-            STEP_KINDS[s.kind].evaluate(s, k, run)
-    else:
-        for k, s in enumerate(plan.steps if upto is None else plan.steps[:upto]):
-            STEP_KINDS[s.kind].evaluate(s, k, run)
+    # frames that do not assemble or sit at a singular position get NaN or inf, which
+    # their validity reports: numpy's warnings are silenced once for all steps
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if only is not None:
+            for k in only:
+                s = plan.steps[k]
+                STEP_KINDS[s.kind].evaluate(s, k, run)
+        else:
+            for k, s in enumerate(plan.steps if upto is None else plan.steps[:upto]):
+                STEP_KINDS[s.kind].evaluate(s, k, run)
     ev = Evaluation(m, geom, order, run.poses, run.residuals, run.diag, run.first, run.solved)
     if plan.reference != plan.frame and plan.frame in ev.poses and upto is None and only is None:
         _to_frame(ev, plan.frame)

@@ -7,6 +7,11 @@ solves its two differentiated constraint equations (a 2×2 linear system per fra
 by Cramer's rule), so σ and κ are exact up to rounding.  The system's determinant is
 the step's singularity measure (zero at a dead or change point).
 
+The functions below run inside :func:`~mjstruct.kinematics.evaluate.evaluate`, which
+silences numpy's floating-point warnings once for all steps (a frame that does not
+assemble or sits at a singular position gets NaN or inf, which the frame's validity
+reports); called alone at such a frame they warn as numpy does.
+
 Examples
 --------
 >>> import numpy as np
@@ -51,17 +56,22 @@ class Pose:
 
     def point(self, z: complex) -> Jet:
         """Jet of the link's point whose reference position is ``z``."""
+        # at a singular frame ω is infinite: its point's rates are NaN there, which the
+        # frame's validity reports (not a numpy warning)
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self.carry(z)
+
+    def carry(self, z: complex) -> Jet:
+        """:meth:`point` without its own floating-point error state (for the steps
+        of :func:`~mjstruct.kinematics.evaluate.evaluate`, which sets it once)."""
         if z == self.zA:  # the anchor itself: nothing to compute
             return list(self.A)
         rd = self.r * (z - self.zA)
         out = [self.A[0] + rd]
-        # at a singular frame ω is infinite: its point's rates are NaN there, which the
-        # frame's validity reports (not a numpy warning)
-        with np.errstate(invalid="ignore", over="ignore"):
-            if len(self.A) > 1:
-                out.append(self.A[1] + 1j * self.w[0] * rd)
-            if len(self.A) > 2:
-                out.append(self.A[2] + (1j * self.w[1] - self.w[0] ** 2) * rd)
+        if len(self.A) > 1:
+            out.append(self.A[1] + 1j * self.w[0] * rd)
+        if len(self.A) > 2:
+            out.append(self.A[2] + (1j * self.w[1] - self.w[0] ** 2) * rd)
         return out
 
     def vector(self, v: complex) -> Jet:
@@ -88,8 +98,7 @@ _dot = dot
 def solve2(g1: Array, h1: Array, g2: Array, h2: Array) -> Array:
     """X with ``g1·X = h1`` and ``g2·X = h2`` (plane vectors as complex numbers)."""
     det = g1.real * g2.imag - g1.imag * g2.real
-    with np.errstate(divide="ignore", invalid="ignore"):
-        X: Array = -1j * (h1 * g2 - h2 * g1) / det
+    X: Array = -1j * (h1 * g2 - h2 * g1) / det
     return X
 
 
@@ -106,11 +115,10 @@ def circle_circle(
     D = np.abs(d)
     # coincident centres: the dyad is undefined (a change point of a hinged square)
     D = np.where(CENTRES_APART * (r1 + r2) < D, D, np.nan)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
-        disc = (r1 * r1 - a * a) / (r1 * r1)
-        h = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
-        X0 = P1[0] + (a + 1j * K * h) * d / D
+    a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
+    disc = (r1 * r1 - a * a) / (r1 * r1)
+    h = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
+    X0 = P1[0] + (a + 1j * K * h) * d / D
     X = [X0]
     g1, g2 = X0 - P1[0], X0 - P2[0]
     if order >= 1:
@@ -135,8 +143,7 @@ def circle_line(
     w = L[0] - P1[0]
     beta = _dot(u, w)
     disc = (beta * beta - (_dot(w, w) - r1 * r1)) / (r1 * r1)
-    with np.errstate(invalid="ignore"):
-        root = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
+    root = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
     s = -beta + K * root
     X0 = L[0] + s * u
     X = [X0]
@@ -208,24 +215,23 @@ def guide_pair(
     e = ((z2 - z1) * axis.conjugate()).imag
     w = P2[0] - P1[0]
     W = np.abs(w)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = e / W
-        disc = 1.0 - ratio * ratio
-        # θ = arg w - arg axis - asin(e/|w|) on one side, π - asin on the other
-        alpha = np.arcsin(np.clip(ratio, -1.0, 1.0))
-        alpha = np.where(np.asarray(K) > 0, alpha, np.pi - alpha)
-        theta = np.angle(w) - np.angle(axis) - alpha
-        theta = np.where(disc >= -DISC_SLACK, theta, np.nan)
-        r = np.exp(1j * theta)
-        c = axis.conjugate() * r.conjugate()
-        g = c * w
-        out: Jet = []
-        if order >= 1:
-            t1 = (c * (P2[1] - P1[1])).imag / g.real
-            out.append(t1)
-        if order >= 2:
-            w1, w2 = P2[1] - P1[1], P2[2] - P1[2]
-            out.append((c * (w2 - 2j * t1 * w1 - t1 * t1 * w)).imag / g.real)
+    ratio = e / W
+    disc = 1.0 - ratio * ratio
+    # θ = arg w - arg axis - asin(e/|w|) on one side, π - asin on the other
+    alpha = np.arcsin(np.clip(ratio, -1.0, 1.0))
+    alpha = np.where(np.asarray(K) > 0, alpha, np.pi - alpha)
+    theta = np.angle(w) - np.angle(axis) - alpha
+    theta = np.where(disc >= -DISC_SLACK, theta, np.nan)
+    r = np.exp(1j * theta)
+    c = axis.conjugate() * r.conjugate()
+    g = c * w
+    out: Jet = []
+    if order >= 1:
+        t1 = (c * (P2[1] - P1[1])).imag / g.real
+        out.append(t1)
+    if order >= 2:
+        w1, w2 = P2[1] - P1[1], P2[2] - P1[2]
+        out.append((c * (w2 - 2j * t1 * w1 - t1 * t1 * w)).imag / g.real)
     return r, out, disc, g.real / W
 
 
@@ -233,14 +239,13 @@ def rotation_between(P: Jet, Q: Jet, zP: complex, zQ: complex) -> tuple[Array, J
     """Rotation of a link carrying P and Q (reference positions zP, zQ): ``r`` and θ', θ''."""
     v = Q[0] - P[0]
     e = zQ - zP
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = (v / np.abs(v)) / (e / abs(e))
-        w: Jet = []
-        if len(P) > 1:
-            q1 = (Q[1] - P[1]) / v
-            w.append(q1.imag)
-        if len(P) > 2:
-            w.append(((Q[2] - P[2]) / v - q1 * q1).imag)
+    r = (v / np.abs(v)) / (e / abs(e))
+    w: Jet = []
+    if len(P) > 1:
+        q1 = (Q[1] - P[1]) / v
+        w.append(q1.imag)
+    if len(P) > 2:
+        w.append(((Q[2] - P[2]) / v - q1 * q1).imag)
     return r, w
 
 

@@ -131,7 +131,7 @@ class Run:
         """Jet of a known joint centre."""
         if joint in self.solved:
             return self.solved[joint]
-        return self.poses[self.first[joint]].point(self.geometry.centres[joint])
+        return self.poses[self.first[joint]].carry(self.geometry.centres[joint])
 
     def mode(self, k: int, reference: int) -> npt.NDArray[Any] | int:
         """Assembly mode of step ``k`` (given, else the reference configuration's)."""
