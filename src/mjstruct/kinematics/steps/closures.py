@@ -47,7 +47,7 @@ def _eval_close_distance(s: Step, k: int, run: Run) -> None:
 def _eval_close_point(s: Step, k: int, run: Run) -> None:
     a, b = s.links
     z = run.geometry.centres[s.joint]
-    Xa, Xb = run.poses[a].point(z), run.poses[b].point(z)
+    Xa, Xb = run.poses[a].carry(z), run.poses[b].carry(z)
     diff: Jet = [Xa[i] - Xb[i] for i in range(run.order + 1)]
     run.residuals.append([d.real for d in diff])
     run.residuals.append([d.imag for d in diff])
@@ -59,7 +59,7 @@ def _eval_close_slide(s: Step, k: int, run: Run) -> None:
     pa, pb = run.poses[a], run.poses[b]
     z = geom.centres[s.joint]
     n = pa.vector(1j * geom.axes[s.joint])  # the guide's normal, carried by link a
-    Xa, Xb = pa.point(z), pb.point(z)
+    Xa, Xb = pa.carry(z), pb.carry(z)
     D = [Xb[i] - Xa[i] for i in range(order + 1)]
     offset: Jet = [dot(n[0], D[0])]
     # the relative rotation rho = e^{i phi}, phi = theta_b - theta_a, must stay 1

@@ -48,7 +48,7 @@ def _driver(s: Step, k: int, run: Run) -> None:
         w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
         run.place(driven, Pose(C[s.joint], run.centre(s.joint), r, w))
         return
-    A = base.point(C[s.joint])
+    A = base.carry(C[s.joint])
     u = base.vector(run.geometry.axes[s.joint])
     X: Jet = [A[0] + dq * u[0]]
     if run.order >= 1:
@@ -64,7 +64,7 @@ def _assume_slide(s: Step, k: int, run: Run) -> None:
     C = run.geometry.centres
     i = s.index
     base = run.poses[s.base]
-    A = base.point(C[s.joint])
+    A = base.carry(C[s.joint])
     u = base.vector(run.geometry.axes[s.joint])
     d, d1, d2 = run.t[:, i], run.t1[..., i], run.t2[..., i]
     X: Jet = [A[0] + d * u[0]]

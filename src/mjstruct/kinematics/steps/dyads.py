@@ -112,7 +112,7 @@ def _eval_rrp(s: Step, k: int, run: Run) -> None:
     base = run.poses[s.base]
     zX, z1 = C[s.joint], C[s.inputs[0]]
     P1 = run.centre(s.inputs[0])
-    L = base.point(zX)
+    L = base.carry(zX)
     n = base.vector(1j * geom.axes[guide])
     mode = run.mode(k, mode_rrp(z1, zX, geom.axes[guide]))
     X, disc, det = circle_line(P1, abs(zX - z1), L, n, mode, run.order)

@@ -39,9 +39,9 @@ def _eval_prp(s: Step, k: int, run: Run) -> None:
     zX = geom.centres[s.joint]
     pb, pc = (run.poses[other_link(m, g, x)] for g, x in zip(s.inputs, s.links, strict=True))
     X, disc, det = line_line(
-        pb.point(zX),
+        pb.carry(zX),
         pb.vector(1j * geom.axes[s.inputs[0]]),
-        pc.point(zX),
+        pc.carry(zX),
         pc.vector(1j * geom.axes[s.inputs[1]]),
         run.order,
     )
@@ -62,9 +62,9 @@ def _eval_rpp(s: Step, k: int, run: Run) -> None:
     zJ, z1 = geom.centres[s.joint], geom.centres[s.inputs[0]]
     run.place(b, Pose(z1, run.centre(s.inputs[0]), base.r, list(base.w)))
     X, disc, det = line_line(
-        run.poses[b].point(zJ),
+        run.poses[b].carry(zJ),
         base.vector(1j * geom.axes[s.joint]),
-        base.point(zJ),
+        base.carry(zJ),
         base.vector(1j * geom.axes[s.inputs[1]]),
         run.order,
     )
