@@ -75,3 +75,37 @@ def test_stacked_jacobian_matches_columns() -> None:
     assert Rd is not None
     assert np.allclose(R, R2, rtol=0, atol=1e-15)
     assert np.allclose(J, J2, rtol=0, atol=1e-13 * np.abs(J2).max())
+
+
+@pytest.mark.parametrize("name", ["class-iv-seed003", "triad-class-iii"])
+def test_order_one_skips_only_the_second_derivative(
+    name: str, closure_evaluations: list[int]
+) -> None:
+    model = _model(name)
+    q = model.sweep(360)
+    calls = closure_evaluations
+    full = closure.close(model, q)
+    with_t2 = calls[0]
+    calls[0] = 0
+    first = closure.close(model, q, order=1)
+    # the same roots and tangents, one evaluation (of order 2) fewer per close (the
+    # reseeding past a gap closes again), t'' not computed
+    assert calls[0] < with_t2
+    assert np.array_equal(first.t, full.t, equal_nan=True)
+    assert np.array_equal(first.t1, full.t1, equal_nan=True)
+    assert np.isnan(first.t2).all() and np.isfinite(full.t2[full.converged]).all()
+    assert model.motion(q, order=1).valid.sum() == model.motion(q).valid.sum()
+
+
+def test_tangent_from_the_last_newton_round_is_the_analytic_one() -> None:
+    # t' comes with Newton's last round (a seed along the path there): it must equal
+    # t' solved afresh at the converged unknowns, rates included
+    model = _model("triad-class-iii")
+    q = model.sweep(90)
+    rate = np.array([-2.5])
+    sol = closure.close(model, q, rate)
+    ok = sol.converged
+    t1, t2 = closure.derivatives(model, q[ok], sol.t[ok], rate)
+    scale = max(1.0, float(np.abs(t1).max()))
+    assert np.abs(sol.t1[ok] - t1).max() <= 1e-12 * scale
+    assert np.abs(sol.t2[ok] - t2).max() <= 1e-10 * max(1.0, float(np.abs(t2).max()))

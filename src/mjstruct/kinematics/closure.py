@@ -986,7 +986,10 @@ def close(
             t1[r], t2[r] = derivatives(model, q[r], t[r], rate, _subset_modes(K, r), order)
     reseeded: tuple[int, ...] = ()
     if reseed and not ok.all():
-        reseeded = _reseed(model, q, rate, K, tol, maxiter, t, t1, t2, err, ok, order)
+        # where the path's first run from the reference met the edge, continuing from
+        # the reference along that ray again would only meet it again
+        edge = (dir0, gap) if K is None and gap <= path.run_end(0.0) else None
+        reseeded = _reseed(model, q, rate, K, tol, maxiter, t, t1, t2, err, ok, order, edge)
     if q.shape[1] == 1 and D0 is not None and dir0[0] != 0:
         d0 = D0 * (rate[0] / dir0[0])  # the tangent is linear in the driver rates
     else:
@@ -1010,6 +1013,7 @@ def _reseed(
     err: FloatArray,
     ok: BoolArray,
     order: int = 2,
+    edge: tuple[FloatArray, float] | None = None,
 ) -> tuple[int, ...]:
     """Continue from the reference again to the frames the path did not reach.
 
@@ -1018,7 +1022,10 @@ def _reseed(
     other way (a rocking input).  A revolute driver's angle is taken modulo 2π
     (within π of the reference: the mechanism is the same), the missed frames are
     sorted by their distance from the reference on each side, and each side is
-    closed by continuation from the reference.  Fills ``t``, ``t1``, ``t2``, ``err``
+    closed by continuation from the reference.  ``edge`` (dq/ds, arc): the path left
+    the reference along that direction and met the edge of the feasible range at that
+    arc; frames on that ray at least as far are not sought again (the same
+    continuation would stop at the same edge).  Fills ``t``, ``t1``, ``t2``, ``err``
     and ``ok`` in place; returns the frames it closed.
     """
     miss = np.flatnonzero(~ok)
@@ -1029,9 +1036,14 @@ def _reseed(
     lead = np.abs(d).argmax(axis=1)
     side = np.sign(d[np.arange(miss.size), lead])
     dist = np.abs(d).max(axis=1)
+    seek = np.ones(miss.size, bool)
+    if edge is not None:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ray = np.abs(d / dist[:, None] - edge[0]).max(axis=1) <= 1e-12
+        seek = ~(ray & (dist >= edge[1]))
     found: list[int] = []
     for sgn in (1.0, -1.0):
-        pick = np.flatnonzero(side == sgn)
+        pick = np.flatnonzero((side == sgn) & seek)
         if pick.size == 0:
             continue
         pick = pick[np.argsort(dist[pick], kind="stable")]
