@@ -339,7 +339,9 @@ def _station(
     many small calls): one evaluation per iteration gives R, dR/dt and dR/dτ, so the
     tangent at the converged point costs nothing more.  None: it did not close (as in
     :func:`_newton`, at most ``2 * maxiter`` evaluations, and a trial that does not
-    assemble even halved ends it).
+    assemble even halved ends it), or it stopped converging: three iterations that
+    did not halve the best error before them (past a fold Newton wanders about the
+    residual's positive minimum; near one inside, it still gains at least that).
     """
     scale = model.geometry.scale
     q1 = q[None, :]
@@ -347,6 +349,7 @@ def _station(
     base, step = t, np.zeros_like(t)
     alpha, halved, evals = 1.0, 0, 0
     rbase = err = np.inf
+    errors: list[float] = []
     for _ in range(2 * maxiter):
         R, J, Rd = closure_jets(model, q1, t[None, :], K, dirn, only)
         r = R[0]
@@ -366,7 +369,8 @@ def _station(
         if e <= tol or (stalled and e <= STALL_ERROR * tol):
             assert Rd is not None
             return t, -_solve(J, Rd)[0]
-        if evals >= maxiter:
+        errors.append(e)
+        if evals >= maxiter or (evals > 3 and min(errors[-3:]) > 0.5 * min(errors[:-3])):
             return t, None
         base, rbase = t, rmax
         step = _newton_step(J, R)[0]
