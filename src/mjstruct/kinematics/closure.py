@@ -946,7 +946,7 @@ def close(
     DD2 = _station_curvature(model, path, S, TT, DD, K, only)
     guess = _hermite(S, TT, DD, path.arc[1:], DD2)
     reached = path.arc[1:] < gap
-    # (each round also gives dt/dτ at its point: at the last, t' costs nothing more)
+    # (Newton's rounds from the second also give dt/dτ: t' costs no evaluation more)
     t1: FloatArray | None
     if reached.all():
         t, err, iters, ok, J, t1 = _newton(model, q, guess, K, tol, maxiter, only, rate)
