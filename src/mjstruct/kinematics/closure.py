@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.kinematics.evaluate import evaluate
+from mjstruct.kinematics.evaluate import Evaluation, evaluate
 from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import (
     NEWTON_TOL,
@@ -141,6 +141,39 @@ def closing_steps(model: KinematicModel) -> tuple[int, ...] | None:
     return None if len(need) == len(steps) else tuple(sorted(need))
 
 
+def _seeded(
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    K: Modes | None,
+    only: tuple[int, ...] | None,
+    rates: FloatArray | None = None,
+    lead: FloatArray | None = None,
+    order: int = 1,
+) -> tuple[Evaluation, list[FloatArray]]:
+    """One evaluation seeded on every unknown (t' = e_j at rest), after a first seed
+    along ``rates`` with t' = ``lead`` (0 if None) when ``rates`` is given.
+
+    Returns the evaluation and its closure equations' derivatives 1 .. ``order``, each
+    (seeds, frames, equations).
+    """
+    F, k = t.shape
+    first = 0 if rates is None else 1
+    n = k + first
+    seeds = np.zeros((n, 1 if lead is None else F, k))
+    seeds[first:] = np.eye(k)[:, None, :]
+    dq = np.zeros((n, q.shape[1]))
+    if rates is not None:
+        dq[0] = rates
+        if lead is not None:
+            seeds[0] = lead
+    ev = evaluate(model, q, order=order, rates=dq, t=t, t1=seeds, K=K, only=only)
+    shape = (n, F, model.plan.equations)
+    out = [ev.residual_matrix(i) for i in range(1, order + 1)]
+    # a derivative that depends on no seed has no seed axis
+    return ev, [r if r.shape == shape else np.broadcast_to(r, shape) for r in out]
+
+
 def closure_jets(
     model: KinematicModel,
     q: FloatArray,
@@ -154,24 +187,14 @@ def closure_jets(
     One seed per unknown (and one along ``rates`` with t' = 0 when given) on the
     evaluation's seed axis: the positions are computed once, and a Newton iteration
     or a tangent costs one call of :func:`~mjstruct.kinematics.evaluate.evaluate`
-    whatever the number of unknowns; the first derivative along each seed is a column exactly.
+    whatever the number of unknowns; the first derivative along each seed is a column
+    exactly.
     """
-    F, k = t.shape
-    lead = 0 if rates is None else 1
-    n = k + lead
-    seeds = np.zeros((n, 1, k))
-    seeds[lead:, 0, :] = np.eye(k)
-    dq = np.zeros((n, q.shape[1]))
-    if rates is not None:
-        dq[0] = rates
-    ev = evaluate(model, q, order=1, rates=dq, t=t, t1=seeds, K=K, only=only)
-    R = ev.residual_matrix(0)
-    R1 = ev.residual_matrix(1)
-    if R1.shape[0] != n or R1.ndim != 3:  # derivatives that depend on no seed
-        R1 = np.broadcast_to(R1, (n, F, R.shape[1]))
+    ev, (R1,) = _seeded(model, q, t, K, only, rates)
+    first = 0 if rates is None else 1
     # (seed, frame, equation) -> (frame, equation, seed): np.moveaxis(·, 0, -1) as a
     # plain transpose
-    return R, R1[lead:].transpose(1, 2, 0), (R1[0] if lead else None)
+    return ev.residual_matrix(0), R1[first:].transpose(1, 2, 0), (R1[0] if first else None)
 
 
 def closure_jacobian(
@@ -569,9 +592,7 @@ def _continue(
                 d = DD[-1] * (new[0] / old[0])
             else:
                 s1 = np.array([s_last])
-                _, J, Rd = closure_jets(model, path.at(s1), TT[-1][None, :], modes(s1), new, only)
-                assert Rd is not None
-                d = _finite(-_solve(J, Rd)[0])
+                d = _finite(_tangent(model, path.at(s1), TT[-1][None, :], modes(s1), new)[0])
             S.append(s_last)
             TT.append(TT[-1])
             DD.append(d)
@@ -1223,26 +1244,9 @@ def _station_curvature(
         twin = np.flatnonzero(np.r_[False, S[1:] == S[:-1]])
         sign[twin] = [path.direction_after(float(S[i]))[0] * path.dirs[0, 0] for i in twin]
         DD = DD * sign[:, None]
-    n, k = S.size, TT.shape[1]
-    seeds = np.zeros((k + 1, n, k))
-    seeds[0] = DD
-    seeds[1:] = np.eye(k)[:, None, :]
-    dq = np.zeros((k + 1, path.points.shape[1]))
-    dq[0] = path.dirs[0]
-    ev = evaluate(
-        model,
-        path.at(S),
-        order=2,
-        rates=dq,
-        t=TT,
-        t1=seeds,
-        K=None if K is None else _subset_modes(K, path.frames_at(S)),
-        only=only,
-    )
-    R1 = np.broadcast_to(ev.residual_matrix(1), (k + 1, n, model.plan.equations))
-    J = R1[1:].transpose(1, 2, 0)
-    R2 = np.broadcast_to(ev.residual_matrix(2), (k + 1, n, model.plan.equations))
-    return _finite(-_solve(J, R2[0]))
+    K = None if K is None else _subset_modes(K, path.frames_at(S))
+    _, (R1, R2) = _seeded(model, path.at(S), TT, K, only, path.dirs[0], DD, order=2)
+    return _finite(-_solve(R1[1:].transpose(1, 2, 0), R2[0]))
 
 
 def _hermite(
