@@ -8,9 +8,7 @@ from typing import Any
 import pytest
 
 from mjstruct.kinematics import closure
-
-ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ROOT / "catalogs" / "examples"
+from project_paths import EXAMPLES
 
 
 @pytest.fixture

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import tomllib
-from pathlib import Path
 
 import mjstruct
 from mjstruct.cli.main import COMMANDS
-
-ROOT = Path(__file__).resolve().parents[1]
+from project_paths import ROOT
 
 PUBLIC = [
     "Atlas",

@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parent.parent
+from project_paths import ROOT
+
 PAGES = sorted(
     [
         ROOT / "README.md",

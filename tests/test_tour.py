@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import nbformat
 from nbclient import NotebookClient
 
-TOUR = Path(__file__).resolve().parents[1] / "docs" / "tour.ipynb"
+from project_paths import ROOT
+
+TOUR = ROOT / "docs" / "tour.ipynb"
 
 
 def test_tour_notebook_runs_and_shows_its_results(tmp_path):

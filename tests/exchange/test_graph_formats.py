@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import networkx as nx
 import pytest
@@ -21,8 +20,8 @@ from mjstruct.exchange.graph_formats import (
 )
 from mjstruct.io import mechanism_to_dict, read_mechanism
 from mjstruct.structure.isomorphism import canonical_code
+from project_paths import EXAMPLES
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "catalogs" / "examples"
 ALL = sorted(EXAMPLES.glob("*.json"))
 
 

@@ -26,8 +26,8 @@ from mjstruct.dynamics.expressions import parse_expression
 from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
+from project_paths import EXAMPLES
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "catalogs" / "examples"
 SEED = EXAMPLES / "slider-crank-seed000-dynamics.json"
 
 

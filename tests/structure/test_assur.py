@@ -24,7 +24,7 @@ from mjstruct.structure.assur import (
     group_class,
 )
 from mjstruct.testing import random_mechanism
-from test_pebble import constraint_rows
+from velocity_constraints import constraint_rows
 
 
 def example(name: str) -> Mechanism:

@@ -4,7 +4,6 @@ the shipped counterexample pair; fast chain codes equal to canonical_code."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import networkx as nx
 import pytest
@@ -18,8 +17,8 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure.invariants import mj_link_sets, seed_invariants
 from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.synthesis.atlas import atlas, chain_code
+from project_paths import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 PAIR = [ROOT / "catalogs" / "examples" / f"iso-counterexample-{k}.json" for k in "ab"]
 
 

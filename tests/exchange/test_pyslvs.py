@@ -4,7 +4,6 @@ the kinds that cannot be represented."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import pytest
 
@@ -20,9 +19,9 @@ from mjstruct.exchange.pyslvs import (
 from mjstruct.io import mechanism_to_dict, read_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.isomorphism import canonical_code
+from project_paths import DATA, EXAMPLES
 
-DATA = Path(__file__).resolve().parent / "data" / "pyslvs"
-EXAMPLES = Path(__file__).resolve().parents[1] / "catalogs" / "examples"
+PYSLVS_DATA = DATA / "pyslvs"
 LEVELS = ("chain", "kinds", "mechanism")
 
 
@@ -97,7 +96,7 @@ def test_round_trip_without_header_keeps_structure_and_geometry():
 def test_reads_the_radial_engine_as_pyslvs_writes_it():
     """pyslvs rounds to 4 decimals and keeps slot angles modulo 180 degrees."""
     m = read_mechanism(EXAMPLES / "kin-radial-engine-5.json")
-    got = mechanism_from_pyslvs((DATA / "kin-radial-engine-5.pmks").read_text())
+    got = mechanism_from_pyslvs((PYSLVS_DATA / "kin-radial-engine-5.pmks").read_text())
     assert canonical_code(got, "kinds") == canonical_code(m, "kinds")
     mj = [j for j in got.joints if j.is_multiple]
     assert len(mj) == 1 and mj[0].multiplicity == 5
@@ -107,26 +106,26 @@ def test_reads_the_radial_engine_as_pyslvs_writes_it():
 @pytest.mark.parametrize("name", ["zhivago", "scotch-yoke"])
 def test_reads_shipped_examples_as_pyslvs_writes_them(name):
     m = read_mechanism(EXAMPLES / f"{name}.json")
-    got = mechanism_from_pyslvs((DATA / f"{name}.pmks").read_text())
+    got = mechanism_from_pyslvs((PYSLVS_DATA / f"{name}.pmks").read_text())
     for level in ("chain", "kinds"):
         assert canonical_code(got, level) == canonical_code(m, level)
     _same_geometry(m, got, tol=1e-4 * math.sqrt(2), signed=False)
 
 
 def test_editor_layout_comments_colours_and_coupler_point():
-    got = mechanism_from_pyslvs((DATA / "four-bar-coupler.pmks").read_text())
+    got = mechanism_from_pyslvs((PYSLVS_DATA / "four-bar-coupler.pmks").read_text())
     assert got.frame == "ground"
     assert got.links == ("ground", "L1", "L2", "L3")
     assert [j.id for j in got.joints] == ["P0", "P1", "P2", "P4"]
     assert [(p.id, p.link, p.at) for p in got.points] == [("P3", "L2", (33.3, 66.95))]
     four_bar = read_mechanism(EXAMPLES / "four-bar.json")
     assert canonical_code(got, "kinds") == canonical_code(four_bar, "kinds")
-    colours = [j.color for j in parse_pyslvs((DATA / "four-bar-coupler.pmks").read_text())]
+    colours = [j.color for j in parse_pyslvs((PYSLVS_DATA / "four-bar-coupler.pmks").read_text())]
     assert colours == ["Green", "Green", "Dark-Red", "(255, 128, 0)", "Green"]
 
 
 def test_block_comment_and_a_multiple_joint_on_a_slider():
-    got = mechanism_from_pyslvs((DATA / "offset-slider.pmks").read_text())
+    got = mechanism_from_pyslvs((PYSLVS_DATA / "offset-slider.pmks").read_text())
     mj = got.joint("P2")
     assert mj.links == ("L2", "L3", "L4") and mj.multiplicity == 2
     slider = got.joint("P3")
@@ -135,7 +134,7 @@ def test_block_comment_and_a_multiple_joint_on_a_slider():
 
 
 def test_pin_in_slot_is_refused_or_replaced_by_a_slider_block():
-    text = (DATA / "crank-slider-rp.pmks").read_text()
+    text = (PYSLVS_DATA / "crank-slider-rp.pmks").read_text()
     with pytest.raises(MechanismError, match=r"J\[RP\] #2 is a pin in a slot"):
         mechanism_from_pyslvs(text)
     got = mechanism_from_pyslvs(text, pin_slot="block")
@@ -150,7 +149,7 @@ def test_kinematics_accepts_an_imported_mechanism():
     from mjstruct.kinematics.solver import kinematic_analysis
 
     got = mechanism_from_pyslvs(
-        (DATA / "crank-slider-rp.pmks").read_text(), pin_slot="block", drivers=["P0"]
+        (PYSLVS_DATA / "crank-slider-rp.pmks").read_text(), pin_slot="block", drivers=["P0"]
     )
     result = kinematic_analysis(got, frames=12, speed=1.0)
     # the pin stays on the slot line y = -10 through the whole turn
@@ -249,7 +248,7 @@ def test_a_chain_without_frame_stays_without_frame():
 
 @pytest.mark.parametrize("name", ["crank-rocker.pyslvs", "crank-rocker-compressed.pyslvs"])
 def test_reads_pyslvs_projects_block_and_compressed(name):
-    m = mechanism_from_pyslvs_project((DATA / name).read_text())
+    m = mechanism_from_pyslvs_project((PYSLVS_DATA / name).read_text())
     assert m.frame == "ground" and m.drivers == ("P0",)
     assert [j.id for j in m.joints] == ["P0", "P1", "P2", "P4"]
     assert m.points[0].at == (33.3, 66.95)

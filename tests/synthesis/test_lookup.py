@@ -14,8 +14,8 @@ from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.synthesis.admissibility import is_admissible
 from mjstruct.synthesis.atlas import atlas
 from mjstruct.synthesis.catalog import SHIPPED, catalog_records, lookup, read_catalog
+from project_paths import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = sorted((ROOT / "catalogs" / "examples").glob("*.json"))
 
 

@@ -11,7 +11,6 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,9 +22,7 @@ from mjstruct.dynamics.data import read_dynamics
 from mjstruct.dynamics.matrices import incidence, inertia_matrix, link_motion
 from mjstruct.io import mechanism_from_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
-
-EXAMPLES = Path(__file__).resolve().parents[1] / "catalogs" / "examples"
-
+from project_paths import EXAMPLES
 
 #: the shipped examples with dynamics data, one of each kind (slider, MJ, class IV)
 DYNAMICS_EXAMPLES = [

@@ -5,16 +5,15 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
 
 import pytest
 
 from mjstruct.cli.main import main
 from mjstruct.io import read_mechanism
 from mjstruct.structure.isomorphism import canonical_code
+from project_paths import DATA, EXAMPLES
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "catalogs" / "examples"
-DATA = Path(__file__).resolve().parent / "data" / "pyslvs"
+PYSLVS_DATA = DATA / "pyslvs"
 
 
 def run(capsys, *argv):
@@ -49,7 +48,7 @@ def test_node_link_is_named_and_graphml_goes_by_suffix(capsys, tmp_path):
 def test_pin_slot_refused_with_exit_2_and_nothing_written(capsys, tmp_path):
     out_file = tmp_path / "out.json"
     out_file.write_text("keep me")
-    status, out, err = run(capsys, "convert", DATA / "crank-slider-rp.pmks", "-o", out_file)
+    status, out, err = run(capsys, "convert", PYSLVS_DATA / "crank-slider-rp.pmks", "-o", out_file)
     assert status == 2 and out == ""
     assert err.count("\n") == 1 and "pin in a slot" in err and "--pin-slot block" in err
     assert out_file.read_text() == "keep me"
@@ -57,7 +56,7 @@ def test_pin_slot_refused_with_exit_2_and_nothing_written(capsys, tmp_path):
     status, _, _ = run(
         capsys,
         "convert",
-        DATA / "crank-slider-rp.pmks",
+        PYSLVS_DATA / "crank-slider-rp.pmks",
         "-o",
         out_file,
         "--pin-slot",
@@ -92,7 +91,9 @@ def test_bad_usage_exits_2_with_one_line(capsys, tmp_path, monkeypatch, argv, me
 
 
 def test_pyslvs_project_in_and_out(capsys, tmp_path):
-    status, _, _ = run(capsys, "convert", DATA / "crank-rocker.pyslvs", "-o", tmp_path / "c.json")
+    status, _, _ = run(
+        capsys, "convert", PYSLVS_DATA / "crank-rocker.pyslvs", "-o", tmp_path / "c.json"
+    )
     assert status == 0
     m = read_mechanism(tmp_path / "c.json")
     assert m.drivers == ("P0",) and m.frame == "ground"
