@@ -116,7 +116,16 @@ def test_public_names_pinned():
         assert getattr(mjstruct, name) is not None
 
 
-SUBPACKAGES = ("cli", "dynamics", "exchange", "kinematics", "plot", "structure", "synthesis")
+SUBPACKAGES = (
+    "cli",
+    "design",
+    "dynamics",
+    "exchange",
+    "kinematics",
+    "plot",
+    "structure",
+    "synthesis",
+)
 
 
 def test_subpackage_list_complete():

@@ -12,6 +12,16 @@ from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
+
+def _svg_of(obj: object) -> str | None:
+    """Notebook pictures come from the drawings, imported at the first picture."""
+    from mjstruct.plot.notebook import svg_of
+
+    return svg_of(obj)
+
+
+importlib.import_module("mjstruct.display").set_svg_renderer(_svg_of)
+
 _EXPORTS: dict[str, str] = {
     "Mechanism": "mjstruct.mechanism",
     "Joint": "mjstruct.mechanism",

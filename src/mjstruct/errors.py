@@ -18,23 +18,6 @@ class NumericalError(ArithmeticError):
     """A computation could not produce a trustworthy number; the message says why."""
 
 
-def expect_mechanism(value: object, parameter: str = "m") -> None:
-    """Raise :class:`MechanismError` naming ``parameter`` unless ``value`` is a Mechanism.
-
-    >>> expect_mechanism("four-bar.json")  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    mjstruct.errors.MechanismError: m: expected a Mechanism (read a file ...), got str
-    """
-    from mjstruct.mechanism import Mechanism  # here: mechanism.py imports this module
-
-    if not isinstance(value, Mechanism):
-        raise MechanismError(
-            f"{parameter}: expected a Mechanism (read a file with read_mechanism), "
-            f"got {type(value).__name__}"
-        )
-
-
 def expect_int(value: object, parameter: str, minimum: int | None = None) -> int:
     """``value`` as an int (not a bool), at least ``minimum``; else a one-line error.
 

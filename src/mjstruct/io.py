@@ -27,8 +27,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from mjstruct.errors import MechanismError, expect_instance, expect_mechanism
-from mjstruct.mechanism import Joint, Mechanism, Point
+from mjstruct.errors import MechanismError, expect_instance
+from mjstruct.mechanism import Joint, Mechanism, Point, expect_mechanism
 
 if TYPE_CHECKING:
     import networkx as nx

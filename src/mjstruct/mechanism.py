@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
+from mjstruct import display
 from mjstruct.errors import MechanismError
-from mjstruct.structure.drivers import validate_drivers
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -184,11 +184,9 @@ class Mechanism:
             g.add_edges_from(((JOINT, j.id), (LINK, link)) for link in j.links)
         return g
 
-    def _repr_svg_(self) -> str:
-        """Notebook picture (:func:`mjstruct.plot.notebook.mechanism_svg`)."""
-        from mjstruct.plot.notebook import mechanism_svg
-
-        return mechanism_svg(self)
+    def _repr_svg_(self) -> str | None:
+        """Notebook picture (drawn by the renderer of :mod:`mjstruct.display`)."""
+        return display.svg(self)
 
     def with_drivers(self, drivers: Iterable[str]) -> Mechanism:
         """The same mechanism with another set of driven joints."""
@@ -260,7 +258,7 @@ def validate(m: Mechanism) -> None:
         raise MechanismError(f"links: link {idle[0]!r} takes part in no joint")
     if m.frame is not None and m.frame not in known:
         raise MechanismError(f"frame: unknown link {m.frame!r}")
-    validate_drivers(m, balance=False)  # a file may name any drivers; reports judge them
+    checked_driver_ids(m)  # a file may name any drivers; reports judge their balance
     point_ids: set[str] = set()
     for k, p in enumerate(m.points):
         if p.link not in known:
@@ -275,6 +273,49 @@ def validate(m: Mechanism) -> None:
         smallest = min(parts, key=len)
         raise MechanismError(
             f"joints: the chain is disconnected (links {', '.join(smallest)} form a separate part)"
+        )
+
+
+def checked_driver_ids(m: Mechanism, drivers: Iterable[str] | None = None) -> tuple[str, ...]:
+    """The drivers (default: ``m.drivers``) as a tuple when each is a joint id named once.
+
+    This is the file-level check; whether the drivers suit the mobility is the
+    structure's (:func:`mjstruct.structure.drivers.validate_drivers`).
+
+    >>> m = Mechanism.build([("O1", [0, 1]), ("A", [1, 2]), ("B", [2, 0])])
+    >>> checked_driver_ids(m, ["O1"])
+    ('O1',)
+    >>> checked_driver_ids(m, ["O1", "O1"])
+    Traceback (most recent call last):
+    ...
+    mjstruct.errors.MechanismError: drivers: joint 'O1' is listed twice
+    """
+    if isinstance(drivers, str) or not (drivers is None or isinstance(drivers, Iterable)):
+        raise MechanismError(f"drivers: expected a list of joint ids, got {drivers!r}")
+    out = tuple(m.drivers if drivers is None else drivers)
+    known = m._joint_index
+    seen: set[str] = set()
+    for d in out:
+        if not isinstance(d, str) or d not in known:
+            raise MechanismError(f"drivers: {d!r} is not a joint id")
+        if d in seen:
+            raise MechanismError(f"drivers: joint {d!r} is listed twice")
+        seen.add(d)
+    return out
+
+
+def expect_mechanism(value: object, parameter: str = "m") -> None:
+    """Raise :class:`MechanismError` naming ``parameter`` unless ``value`` is a Mechanism.
+
+    >>> expect_mechanism("four-bar.json")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    mjstruct.errors.MechanismError: m: expected a Mechanism (read a file ...), got str
+    """
+    if not isinstance(value, Mechanism):
+        raise MechanismError(
+            f"{parameter}: expected a Mechanism (read a file with read_mechanism), "
+            f"got {type(value).__name__}"
         )
 
 

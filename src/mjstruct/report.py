@@ -16,12 +16,12 @@ Examples
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure import mobility as mob
 from mjstruct.structure.assortments import Assortment, assortment, simple_joint_count
 from mjstruct.structure.codes import full_code, parse_code, structural_code
@@ -91,10 +91,19 @@ class StructuralReport:
         return full_code(self.assortment, K)
 
     def _repr_html_(self) -> str:
-        """Notebook table (:func:`mjstruct.plot.notebook.report_html`)."""
-        from mjstruct.plot.notebook import report_html
-
-        return report_html(self)
+        """Notebook table of the numbers (the ``analyze --json`` keys)."""
+        d = self.to_dict()
+        rows = []
+        for key, value in d.items():
+            if isinstance(value, (dict, list)) and len(str(value)) > 120:
+                continue
+            text = "" if value is None else str(value)
+            rows.append(
+                f"<tr><th style='text-align:left'>{html.escape(str(key))}</th>"
+                f"<td style='text-align:left'>{html.escape(text)}</td></tr>"
+            )
+        title = html.escape(self.name or "structural report")
+        return f"<table><caption>{title}</caption>{''.join(rows)}</table>"
 
     def to_dict(self) -> dict[str, Any]:
         """The contract's ``analyze`` object plus the checks behind each number."""

@@ -52,11 +52,10 @@ from mjstruct.errors import (
     expect_ids,
     expect_instance,
     expect_int,
-    expect_mechanism,
     expect_number,
 )
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.output_numbers import json_list, json_number
 
 FloatArray = npt.NDArray[np.float64]

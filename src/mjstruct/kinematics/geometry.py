@@ -35,9 +35,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mjstruct.errors import MechanismError, expect_mechanism
+from mjstruct.errors import MechanismError
 from mjstruct.kinematics.tolerances import COINCIDE
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.drivers import validate_drivers
 
 __all__ = ["COINCIDE", "Geometry", "read_geometry"]

@@ -36,11 +36,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.errors import expect_mechanism
 from mjstruct.kinematics.geometry import Geometry, read_geometry
 from mjstruct.kinematics.tolerances import NEAR_SINGULAR, RANK_RTOL
 from mjstruct.kinematics.triangles import Pose
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int_]

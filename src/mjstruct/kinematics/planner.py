@@ -265,7 +265,8 @@ def plan_kinematics(
         the drivers do not determine the mechanism (too few, too many, or a group this
         planner cannot solve).
     """
-    from mjstruct.errors import expect_ids, expect_mechanism
+    from mjstruct.errors import expect_ids
+    from mjstruct.mechanism import expect_mechanism
 
     expect_mechanism(m)
     expect_ids(drivers, "drivers")

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from mjstruct import display
 from mjstruct.kinematics.branches import BranchEvent
 from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.geometry import Geometry
@@ -108,11 +109,9 @@ class KinematicsResult:
         """The reference configuration."""
         return self.model.geometry
 
-    def _repr_svg_(self) -> str:
-        """Notebook picture (:func:`mjstruct.plot.notebook.kinematics_svg`)."""
-        from mjstruct.plot.notebook import kinematics_svg
-
-        return kinematics_svg(self)
+    def _repr_svg_(self) -> str | None:
+        """Notebook picture (drawn by the renderer of :mod:`mjstruct.display`)."""
+        return display.svg(self)
 
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (nulls where a frame does not assemble)."""

@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.errors import MechanismError, expect_mechanism
+from mjstruct.errors import MechanismError
 from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
 from mjstruct.kinematics.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.kinematics.singular_curve import (
@@ -75,7 +75,7 @@ from mjstruct.kinematics.tolerances import (
     SAME_POINT,
     TURNS,
 )
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.output_numbers import json_number
 from mjstruct.structure.mobility import dof_grubler
 from mjstruct.typing import FloatArray

@@ -1,11 +1,11 @@
-"""Rich display in notebooks: small SVG pictures and HTML tables (Jupyter's ``_repr_*_``).
+"""Notebook pictures: small SVGs of mechanisms and kinematics results.
 
-Owns what :class:`~mjstruct.mechanism.Mechanism`, the structural report and the
-kinematics result show in a notebook, kept small and quick: a mechanism with geometry
-is drawn at its reference configuration (a chain without it as an atlas panel), a
-kinematics result as that drawing with the paths of its moving joints, a structural
-report as a table of its numbers.  Figures are built without pyplot (nothing is shown
-twice by an inline backend) and fonts stay text in the SVG.
+Owns what :class:`~mjstruct.mechanism.Mechanism` and the kinematics result show in a
+notebook: :func:`svg_of` is the renderer the package installs in
+:mod:`mjstruct.display`.  Kept small and quick: a mechanism with geometry is drawn at
+its reference configuration (a chain without it as an atlas panel), a kinematics
+result as that drawing with the paths of its moving joints.  Figures are built without
+pyplot (nothing is shown twice by an inline backend) and fonts stay text in the SVG.
 
 Examples
 --------
@@ -18,12 +18,14 @@ True
 
 from __future__ import annotations
 
-import html
 import io
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Mechanism
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.result import KinematicsResult
 
 #: figure width (inches) of a notebook picture
 WIDTH = 4.2
@@ -66,7 +68,7 @@ def mechanism_svg(m: Mechanism) -> str:
     return _svg(fig)
 
 
-def kinematics_svg(result: Any) -> str:
+def kinematics_svg(result: KinematicsResult) -> str:
     """SVG of a kinematics result: the mechanism at its first frame with the paths of the
     moving joints and points over the result's frames."""
     import numpy as np
@@ -103,17 +105,13 @@ def kinematics_svg(result: Any) -> str:
     return _svg(fig)
 
 
-def report_html(report: Any) -> str:
-    """HTML table of a structural report's numbers (the ``analyze --json`` keys)."""
-    d = report.to_dict()
-    rows = []
-    for key, value in d.items():
-        if isinstance(value, (dict, list)) and len(str(value)) > 120:
-            continue
-        text = "" if value is None else str(value)
-        rows.append(
-            f"<tr><th style='text-align:left'>{html.escape(str(key))}</th>"
-            f"<td style='text-align:left'>{html.escape(text)}</td></tr>"
-        )
-    title = html.escape(getattr(report, "name", "") or "structural report")
-    return f"<table><caption>{title}</caption>{''.join(rows)}</table>"
+def svg_of(obj: object) -> str | None:
+    """The notebook picture of a mechanism or a kinematics result (the renderer the
+    package installs in :mod:`mjstruct.display`); None for anything else."""
+    from mjstruct.kinematics.result import KinematicsResult
+
+    if isinstance(obj, Mechanism):
+        return mechanism_svg(obj)
+    if isinstance(obj, KinematicsResult):
+        return kinematics_svg(obj)
+    return None

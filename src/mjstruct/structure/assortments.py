@@ -28,8 +28,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 
 
 @dataclass(frozen=True)

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from mjstruct.errors import MechanismError
+from mjstruct.mechanism import checked_driver_ids
 
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
@@ -115,21 +116,6 @@ def add_driver_bars(
     return welds, balance
 
 
-def _checked_ids(m: Mechanism, drivers: Iterable[str] | None) -> tuple[str, ...]:
-    if isinstance(drivers, str) or not (drivers is None or isinstance(drivers, Iterable)):
-        raise MechanismError(f"drivers: expected a list of joint ids, got {drivers!r}")
-    out = tuple(m.drivers if drivers is None else drivers)
-    known = {j.id for j in m.joints}
-    seen: set[str] = set()
-    for d in out:
-        if not isinstance(d, str) or d not in known:
-            raise MechanismError(f"drivers: {d!r} is not a joint id")
-        if d in seen:
-            raise MechanismError(f"drivers: joint {d!r} is listed twice")
-        seen.add(d)
-    return out
-
-
 def validate_drivers(
     m: Mechanism,
     drivers: Iterable[str] | None = None,
@@ -171,7 +157,7 @@ def validate_drivers(
     mjstruct.errors.MechanismError: drivers: ... under-driven (1 DOF left ...); generic F = 2, ...
     """
     if not balance:
-        return _checked_ids(m, drivers)
+        return checked_driver_ids(m, drivers)
     return checked_balance(m, drivers, mobility=mobility).drivers
 
 
@@ -183,7 +169,7 @@ def checked_balance(
     For callers that need the balance as well (the Assur decomposition reads the
     chain's own redundant constraints from it).
     """
-    return check_balance(driver_balance(m, _checked_ids(m, drivers)), mobility=mobility)
+    return check_balance(driver_balance(m, checked_driver_ids(m, drivers)), mobility=mobility)
 
 
 def check_balance(b: DriverBalance, *, mobility: int | None = None) -> DriverBalance:

@@ -39,8 +39,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.assortments import simple_joint_count
 from mjstruct.structure.drivers import add_driver_bars
 from mjstruct.structure.mobility import dof_grubler

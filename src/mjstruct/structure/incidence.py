@@ -29,8 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 
 
 @dataclass(frozen=True)

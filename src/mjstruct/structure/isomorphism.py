@@ -32,8 +32,8 @@ from typing import Literal
 
 import pynauty
 
-from mjstruct.errors import MechanismError, expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Mechanism, expect_mechanism
 
 Level = Literal["chain", "kinds", "mechanism"]
 LEVELS: tuple[str, ...] = ("chain", "kinds", "mechanism")

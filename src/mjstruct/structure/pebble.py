@@ -48,8 +48,7 @@ import itertools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 
 BODY_PEBBLES = 3  # planar rigid body: x, y, angle
 POINT_PEBBLES = 2  # a pin centre: x, y

@@ -29,8 +29,7 @@ True
 
 from __future__ import annotations
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.mobility import dof_grubler, rigid_pair_count
 
 MAX_BRUTE_FORCE_LINKS = 22

@@ -39,8 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mjstruct.errors import expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 
 # (F, n) shipped: F = 1 up to 10 links, F = 2 up to 9 links
 SHIPPED: tuple[tuple[int, int], ...] = ((1, 4), (1, 6), (1, 8), (1, 10), (2, 5), (2, 7), (2, 9))

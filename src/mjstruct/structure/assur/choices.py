@@ -11,8 +11,8 @@ from __future__ import annotations
 import itertools
 from math import comb
 
-from mjstruct.errors import MechanismError, expect_int, expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.errors import MechanismError, expect_int
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.assur.decomposition import decompose
 from mjstruct.structure.assur.results import DriverChoice
 from mjstruct.structure.drivers import add_driver_bars

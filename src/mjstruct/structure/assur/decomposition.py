@@ -48,8 +48,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from mjstruct.errors import MechanismError, expect_mechanism
-from mjstruct.mechanism import Mechanism
+from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.assur.bodies import BodyModel, LevelJoint, link_key
 from mjstruct.structure.assur.contours import group_class
 from mjstruct.structure.assur.results import AssurGroup, Decomposition
