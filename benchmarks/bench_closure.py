@@ -33,7 +33,7 @@ import numpy.typing as npt
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics import closure
+from mjstruct.kinematics import closure, closure_newton
 from mjstruct.kinematics.model import KinematicModel
 from timing import race
 
@@ -149,15 +149,15 @@ def compare(label: str, model: KinematicModel, mech: ClassIV, q: Arr, repeat: in
     """Race the plug-in's closure against the hand-written one on frames ``q``; print."""
     qv = q[:, 0] - model.q_ref[0]
     calls = [0]
-    real = closure.evaluate
+    real = closure_newton.evaluate
 
     def counting(*a: Any, **k: Any) -> Any:
         calls[0] += 1
         return real(*a, **k)
 
-    closure.evaluate = counting
+    closure_newton.evaluate = counting
     sol = closure.close(model, q)
-    closure.evaluate = real
+    closure_newton.evaluate = real
     psi, psi1 = hand_written(mech, qv)
     agree = float(np.abs(np.angle(np.exp(1j * (psi - sol.t[:, 0])))).max())
     agree1 = float(np.abs(psi1 - sol.t1[:, 0]).max())

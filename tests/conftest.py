@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from mjstruct.kinematics import closure
+from mjstruct.kinematics import closure_newton
 from project_paths import EXAMPLES
 
 
@@ -18,13 +18,16 @@ def examples() -> Path:
 
 @pytest.fixture
 def closure_evaluations(monkeypatch: pytest.MonkeyPatch) -> list[int]:
-    """Calls of ``evaluate()`` made by the closure, in ``[0]`` (assign 0 to restart)."""
+    """Calls of ``evaluate()`` made by the closure, in ``[0]`` (assign 0 to restart).
+
+    Every evaluation of the closure goes through :mod:`~mjstruct.kinematics.closure_newton`.
+    """
     calls = [0]
-    real = closure.evaluate
+    real = closure_newton.evaluate
 
     def counting(*args: Any, **kwargs: Any) -> Any:
         calls[0] += 1
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(closure, "evaluate", counting)
+    monkeypatch.setattr(closure_newton, "evaluate", counting)
     return calls

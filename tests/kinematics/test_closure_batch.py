@@ -8,7 +8,7 @@ import pytest
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics import closure
+from mjstruct.kinematics import closure, closure_continuation
 from mjstruct.kinematics.model import KinematicModel
 
 
@@ -40,7 +40,7 @@ def test_one_station_at_a_time_costs_more(
     calls = closure_evaluations
     closure.close(model, q)
     batched = calls[0]
-    monkeypatch.setattr(closure, "MAX_BLOCK", 1)
+    monkeypatch.setattr(closure_continuation, "MAX_BLOCK", 1)
     calls[0] = 0
     closure.close(model, q)
     assert batched < 0.8 * calls[0], (batched, calls[0])
@@ -53,7 +53,7 @@ def test_batched_equals_one_station_at_a_time(name: str, monkeypatch: pytest.Mon
     with np.errstate(all="ignore"):
         # closed to the rounding floor, so that both paths meet the same roots
         batched = closure.close(model, q, tol=1e-15)
-        monkeypatch.setattr(closure, "MAX_BLOCK", 1)
+        monkeypatch.setattr(closure_continuation, "MAX_BLOCK", 1)
         single = closure.close(model, q, tol=1e-15)
     assert np.array_equal(batched.converged, single.converged)
     assert batched.jumps == single.jumps

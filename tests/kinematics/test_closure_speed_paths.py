@@ -13,7 +13,7 @@ import pytest
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics import closure
+from mjstruct.kinematics import closure, closure_continuation, closure_newton, closure_path
 from mjstruct.kinematics.model import KinematicModel
 
 
@@ -39,7 +39,7 @@ def test_window_agrees_with_fine_steps_on_the_class_iv_example(
     model = _model("class-iv-seed003")
     q = model.sweep(720)
     coarse = closure.close(model, q, tol=1e-15)
-    monkeypatch.setattr(closure, "WINDOW_STEP", 0.02)
+    monkeypatch.setattr(closure_continuation, "WINDOW_STEP", 0.02)
     fine = closure.close(model, q, tol=1e-15)
     assert coarse.converged.all() and fine.converged.all()
     assert np.abs(coarse.t - fine.t).max() <= 1e-12
@@ -49,10 +49,10 @@ def test_window_agrees_with_fine_steps_on_the_class_iv_example(
 def test_station_curvature_is_the_analytic_second_derivative():
     model = _model("class-iv-seed003")
     q = model.sweep(360)
-    path = closure._Path(model.q_ref, q)
+    path = closure_path.ClosurePath(model.q_ref, q)
     only = closure.closing_steps(model)
-    S, TT, DD, _, _ = closure._continue(model, path, None, 1e-13, 30, only)
-    d2 = closure._station_curvature(model, path, S, TT, DD, None, only)
+    S, TT, DD, _, _ = closure_continuation.continue_stations(model, path, None, 1e-13, 30, only)
+    d2 = closure_continuation.station_curvature(model, path, S, TT, DD, None, only)
     assert d2 is not None and d2.shape == TT.shape
     qs = path.at(S)
     t1, _ = closure.derivatives(model, qs, TT, path.dirs[0])
@@ -61,7 +61,7 @@ def test_station_curvature_is_the_analytic_second_derivative():
     assert np.abs(t1 - DD).max() <= 1e-6 * max(1.0, float(np.abs(t1).max()))
     # t'' of the stations' own (t, t'): the second derivative of the closure equations
     _, J, _ = closure.closure_jets(model, qs, TT, None, None, only)
-    t2 = closure._curvature(model, qs, TT, DD, path.dirs[0], None, J, only)
+    t2 = closure_newton.curvature(model, qs, TT, DD, path.dirs[0], None, J, only)
     assert np.abs(t2 - d2).max() <= 1e-9 * max(1.0, float(np.abs(t2).max()))
 
 
@@ -72,17 +72,17 @@ def test_hermite_reproduces_quintics_with_curvature_and_cubics_without():
     c5 = rng.normal(size=6)
     p5 = np.polynomial.Polynomial(c5)
     y, dy, d2y = (p5.deriv(m)(x)[:, None] for m in range(3))
-    got = closure._hermite(x, y, dy, xi, d2y)
+    got = closure_path.hermite(x, y, dy, xi, d2y)
     assert np.abs(got[:, 0] - p5(xi)).max() <= 1e-12 * np.abs(p5(xi)).max()
     p3 = np.polynomial.Polynomial(c5[:4])
-    got3 = closure._hermite(x, p3(x)[:, None], p3.deriv()(x)[:, None], xi)
+    got3 = closure_path.hermite(x, p3(x)[:, None], p3.deriv()(x)[:, None], xi)
     assert np.abs(got3[:, 0] - p3(xi)).max() <= 1e-12 * np.abs(p3(xi)).max()
 
 
 def test_cubic_interpolates_and_extrapolates_a_cubic():
     p = np.polynomial.Polynomial([0.3, -1.0, 0.5, 2.0])
     s = np.array([0.1, 0.45, 0.8, 1.7])  # inside and beyond [0.2, 0.7]
-    got = closure._cubic(
+    got = closure_path.cubic(
         0.2, np.array([p(0.2)]), np.array([p.deriv()(0.2)]), 0.7,
         np.array([p(0.7)]), np.array([p.deriv()(0.7)]), s,
     )  # fmt: skip
@@ -92,7 +92,7 @@ def test_cubic_interpolates_and_extrapolates_a_cubic():
 def test_path_runs_end_where_the_direction_changes():
     # the reference at 0, two frames along q0, then three along q1 (one standing still)
     q = np.array([[0.1, 0.0], [0.2, 0.0], [0.2, 0.1], [0.2, 0.3], [0.2, 0.3]])
-    path = closure._Path(np.zeros(2), q)
+    path = closure_path.ClosurePath(np.zeros(2), q)
     assert path.total == pytest.approx(0.5)
     assert path.run_end(0.05) == pytest.approx(0.2)
     assert path.run_end(0.2) == pytest.approx(0.2)  # a run's end belongs to it
@@ -101,7 +101,7 @@ def test_path_runs_end_where_the_direction_changes():
     assert np.array_equal(dirs, [[1, 0], [1, 0], [0, 1], [0, 1]])
     # the modes of the last frame reached (frame 0 before it)
     assert list(path.frames_at(np.array([0.05, 0.2, 0.25, 0.5]))) == [0, 1, 1, 4]
-    still = closure._Path(np.zeros(1), np.zeros((2, 1)))
+    still = closure_path.ClosurePath(np.zeros(1), np.zeros((2, 1)))
     assert still.total == 0 and still.run_ends.size == 0 and still.run_end(0.0) == 0
 
 
@@ -110,4 +110,4 @@ def test_agreement_flags_a_hop_and_a_tangent_that_is_not_finite():
     d = np.ones((3, 1))
     t1 = np.array([[0.1], [0.5], [0.1]])
     d1 = np.array([[1.0], [1.0], [np.nan]])
-    assert list(closure._agreement(t0, d, t1, d1, np.full(3, 0.1))) == [True, False, False]
+    assert list(closure_path.agreement(t0, d, t1, d1, np.full(3, 0.1))) == [True, False, False]

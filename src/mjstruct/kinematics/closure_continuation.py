@@ -1,0 +1,281 @@
+"""Continuation of the closure along the path from the reference configuration.
+
+Owns :func:`continue_stations`: stations not tied to the frames, from the reference (where
+every unknown is 0) along the path, a window of up to :data:`MAX_BLOCK` of them solved
+together by the vectorised Newton (:class:`~mjstruct.kinematics.closure_window.StationWindow`:
+stations far ahead start from rough guesses and close while the ones before them are
+accepted, in order, each checked against the tangent from the last), or one at a time
+with the step halving near the edge of the feasible range, where the continuation
+stops; and the stations' t'' from one more evaluation (:func:`station_curvature`), for
+the quintic Hermite guess on the frames.  The number of evaluations depends on the
+path's length and curvature, not on the number of frames.
+
+Examples
+--------
+>>> import numpy as np
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> from mjstruct.kinematics.model import KinematicModel
+>>> from mjstruct.kinematics.closure_newton import closing_steps
+>>> model = KinematicModel.build(read_mechanism(example_path("class-iv-seed003")))
+>>> path = ClosurePath(model.q_ref, model.q_ref[None, :] + np.linspace(0, 1, 5)[:, None])
+>>> S, TT, DD, D0, gap = continue_stations(model, path, None, 1e-13, 30, closing_steps(model))
+>>> float(S[-1]), gap                   # the last station at the path's end; no edge met
+(1.0, inf)
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mjstruct.kinematics.closure_newton import (
+    closure_jets,
+    newton_step,
+    seeded_jets,
+    solve_stacked,
+    station_newton,
+    subset_modes,
+    tangent,
+)
+from mjstruct.kinematics.closure_path import (
+    ClosurePath,
+    agreement,
+    cubic,
+    finite_or_zero,
+    last_two,
+)
+from mjstruct.kinematics.closure_window import StationWindow
+from mjstruct.kinematics.steps.base import Modes
+from mjstruct.kinematics.tolerances import STALL_ERROR, STATION_STEP
+from mjstruct.typing import FloatArray
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.model import KinematicModel
+
+
+#: continuation stations solved together at most (one evaluation per Newton round:
+#: on a sweep, every station of the turn); 1 is the one-station-at-a-time continuation
+MAX_BLOCK = 64
+#: evaluation rounds of a window station from one guess; a station still open is
+#: guessed again once more is known around it (at the front: sought alone)
+BLOCK_ROUNDS = 8
+#: spacing of the window's stations along the path (radians of the driver, or scale
+#: units): below STATION_STEP so that the quintic Hermite guess between stations is
+#: good to ~1e-7 and Newton on the frames closes in two rounds
+WINDOW_STEP = 0.125
+#: a window station converging quadratically (error e at most NEAR and 1/100 of the
+#: last, so the next is about e³/e_last²) whose next point is predicted within this
+#: fraction of the tolerance is taken at that point without evaluating it: a round
+#: less for most windows.  Its tangent is the one at the point evaluated (off by
+#: about the step, ~1e-7 at most): stations only guide the frames' own Newton
+PREDICTED = 1e-2
+NEAR = 1e-8
+#: Newton iterations of a station sought alone: from the cubic through the last two it
+#: converges in a few, and one that does not is tried again from half the step (near
+#: the edge of the feasible range a full maxiter per try made a sweep take seconds)
+STATION_ITERATIONS = 12
+
+
+def continue_stations(
+    model: KinematicModel,
+    path: ClosurePath,
+    K: Modes | None,
+    tol: float,
+    maxiter: int,
+    only: tuple[int, ...] | None,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None, float]:
+    """Stations along ``path`` from the reference: arc positions, unknowns and tangents.
+
+    Also returns the tangent at the reference (None: the reference does not close) and
+    the arc where the stations stopped closing (inf: never): past the edge of the
+    feasible range the frames are not connected to the reference by the path (they are
+    left to the reseeding of :func:`mjstruct.kinematics.closure.close`).  A station
+    sits on every turn of the path, twice: with the tangent along the run it ends and
+    along the one it starts (stations never cross a turn: the unknowns retrace their
+    way back there).  Stations are accepted in order: one that closes to ``tol`` and
+    agrees with the trapezoid of the tangent from the last one (:func:`agreement`).  Up
+    to :data:`MAX_BLOCK` stations :data:`WINDOW_STEP` apart along a run of the path are
+    solved together (:class:`StationWindow`), one evaluation per round, each from a
+    guess by the cubic through the nearest stations known on either side (held beyond
+    :data:`~mjstruct.kinematics.closure_window.REACH` when there is none ahead); a
+    closed pair that disagrees gets a station halfway, at once.  A station at the front
+    that is refused gets one halfway before it (a second refusal guesses it again); one
+    that is stuck (it does not assemble, cannot be halved or is still open after
+    :data:`BLOCK_ROUNDS`) with nothing new known is sought alone by
+    :func:`station_newton` (the step halving down to 1e-4 until it agrees; one that
+    does not close there ends the continuation).
+    """
+    k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
+
+    def modes(sv: FloatArray) -> Modes | None:
+        return None if K is None else subset_modes(K, path.frames_at(sv))
+
+    def station(sv: float, guess: FloatArray) -> tuple[FloatArray, FloatArray | None]:
+        s1 = np.array([sv])
+        dirn = path.directions(s1)[0]
+        iters = min(maxiter, STATION_ITERATIONS)
+        return station_newton(model, path.at(s1)[0], guess, modes(s1), tol, iters, only, dirn)
+
+    _, D0 = station(0.0, np.zeros(k))
+    S, TT, DD = [0.0], [np.zeros(k)], [np.zeros(k) if D0 is None else finite_or_zero(D0)]
+    win = StationWindow(k, path.points.shape[1])
+    wdir, wend = np.zeros(0), total
+    s_last, step = 0.0, STATION_STEP
+    alone = False  # True from a stuck window station until the step grows back
+    for _ in range(20000):
+        if s_last >= total:
+            break
+        if S[-1] == s_last and s_last in path.turns and not (len(S) > 1 and S[-2] == s_last):
+            # a turn: the station again, its tangent along the new run's direction
+            new, old = path.direction_after(s_last), path.directions(np.array([s_last]))[0]
+            if new.size == 1:  # one driver: the tangent is linear in its rate
+                d = DD[-1] * (new[0] / old[0])
+            else:
+                s1 = np.array([s_last])
+                d = finite_or_zero(tangent(model, path.at(s1), TT[-1][None, :], modes(s1), new)[0])
+            S.append(s_last)
+            TT.append(TT[-1])
+            DD.append(d)
+        if MAX_BLOCK > 1 and not alone:
+            if win.size == 0:
+                first = min(s_last + WINDOW_STEP, path.next_turn(s_last))
+                wdir = path.directions(np.array([first]))[0]
+                wend = min(path.run_end(first), total)
+            tail = float(win.s[-1]) if win.size else s_last
+            room = MAX_BLOCK - win.size
+            if room > 0 and tail < wend:
+                sv = np.minimum(tail + WINDOW_STEP * np.arange(1, room + 1), wend)
+                sv = sv[: int(np.searchsorted(sv, wend)) + 1]
+                g = win.guess(sv, S, TT, DD)
+                win.insert(np.full(sv.size, win.size), sv, path.at(sv), g)
+            R, J, Rd = closure_jets(model, win.q, win.t, modes(win.s), wdir, only)
+            assert Rd is not None
+            rmax = np.abs(R).max(axis=1)
+            finite = np.isfinite(rmax)
+            e = rmax / scale
+            # a trial that does not assemble or more than doubles max |R| (outside the
+            # tolerance: not its rounding) is halved back
+            bad = (~finite | ((rmax > 2.0 * win.rbase) & (e > tol))) & (win.evals > 0)
+            stalled = (e >= 0.5 * win.err) & (e <= STALL_ERROR * tol)
+            closed = ~bad & finite & ((e <= tol) | stalled)
+            D = -solve_stacked(J, Rd)
+            newton = newton_step(J, R)
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                near = ~bad & finite & (e <= NEAR) & (e <= 1e-2 * win.err)
+                near &= e * e * e <= PREDICTED * tol * win.err * win.err
+            at = np.where(near[:, None] & ~closed[:, None], win.t + newton, win.t)
+            ready = closed | near
+            # accept the closed stations at the front while each agrees with the last
+            c = win.size if ready.all() else int(np.argmin(ready))
+            taken = 0
+            if c:
+                ds = win.s[:c] - np.append(s_last, win.s[: c - 1])
+                fits = agreement(
+                    np.vstack([TT[-1], at[: c - 1]]),
+                    np.vstack([DD[-1], finite_or_zero(D[: c - 1])]),
+                    at[:c],
+                    D[:c],
+                    ds,
+                )
+                taken = c if fits.all() else int(np.argmin(fits))
+                S.extend(win.s[:taken].tolist())
+                TT.extend(at[:taken])
+                DD.extend(finite_or_zero(D[:taken]))
+                s_last = S[-1]
+            refused = taken < c
+            stuck = ~ready & (
+                (~finite & (win.evals == 0))
+                | (bad & (win.halved >= 8))
+                | (win.evals + 1 >= BLOCK_ROUNDS)
+            )
+            live = ~stuck
+            live[:taken] = False
+            win.advance(newton, D, rmax, e, bad, ready, live)
+            win.drop_front(taken)
+            if refused and float(win.s[0]) - s_last > 1e-4:
+                # closed, but too far along a curved path (or on another branch): a
+                # station halfway first; a second refusal guesses it again
+                mid = np.array([0.5 * (s_last + float(win.s[0]))])
+                if win.refused[0]:
+                    win.renew(np.arange(win.size) == 0, S, TT, DD, ahead=False)
+                win.refused[0] = True
+                g = win.guess(mid, S, TT, DD, ahead=False)
+                win.insert(np.zeros(1, np.intp), mid, path.at(mid), g)
+                continue
+            if not refused:
+                front_stuck = win.size > 0 and bool(stuck[taken])
+                renewed = win.renew(stuck[taken:], S, TT, DD)
+                if not front_stuck or renewed[0]:
+                    win.split_disagreeing()
+                    continue
+            # refused at the smallest step (a root of another branch near a fold), or
+            # stuck at the front with nothing new known: sought alone, the step halving
+            # (one station at a time) until one closes or the edge is reached, where a
+            # refusal at the smallest step is the edge
+            step = float(win.s[0]) - s_last
+            win.drop_front(win.size)
+            alone = True
+        # one station alone (after a stuck window station, or outside the feasible range)
+        s_new = min(s_last + step, path.next_turn(s_last))
+        ds1 = s_new - s_last
+        s2, t2, d2 = last_two(S, TT, DD)
+        if len(s2) > 1:  # cubic through the last two stations, extrapolated
+            g = cubic(s2[0], t2[0], d2[0], s2[1], t2[1], d2[1], np.array([s_new]))[0]
+        else:
+            g = TT[-1] + DD[-1] * ds1
+        tn, Dn = station(s_new, g)
+        # (after skipped stations the trapezoid spans only the last step: as before)
+        fine = Dn is not None and bool(
+            agreement(TT[-1][None], DD[-1][None], tn[None], Dn[None], np.array([ds1]))[0]
+        )
+        if not fine and step <= 1e-4:
+            # the edge of the feasible range: no station closes, or the one that does
+            # is not on the branch followed (across a fold, where the two meet)
+            return np.array(S), np.array(TT), np.array(DD), D0, s_new
+        if fine and Dn is not None:
+            S.append(s_new)
+            TT.append(tn)
+            DD.append(finite_or_zero(Dn))
+            step = min(2.0 * step, STATION_STEP)
+            # back to the window once the step has grown to its spacing (near an edge
+            # a fresh window would only get stuck again at its front)
+            alone = step < WINDOW_STEP
+            s_last = s_new
+        else:
+            step *= 0.5
+    return np.array(S), np.array(TT), np.array(DD), D0, np.inf
+
+
+def station_curvature(
+    model: KinematicModel,
+    path: ClosurePath,
+    S: FloatArray,
+    TT: FloatArray,
+    DD: FloatArray,
+    K: Modes | None,
+    only: tuple[int, ...] | None,
+) -> FloatArray | None:
+    """t'' at the stations, from one evaluation; None for one station, or off a single
+    run of a path of several drivers.
+
+    Seeds t' = DD along the path (seed 0) and t' = e_j at rest (seed j) at order 2:
+    seed 0 gives R'' at t'' = 0, and seed j's first derivative column j of dR/dt, so
+    ``R_t t'' = -R''`` is solved without another evaluation of the Jacobian.  With one
+    driver the path turns only by reversing (dq/ds = ±1): t'' is the same both ways,
+    and the tangents are taken along the first run's direction.
+    """
+    if S.size < 2 or path.moving.size == 0:
+        return None
+    if path.turns.size:
+        if path.points.shape[1] > 1:
+            return None
+        # each station's run direction (the second of a pair at a turn: the new run's)
+        sign = path.directions(S)[:, 0] * path.dirs[0, 0]
+        twin = np.flatnonzero(np.r_[False, S[1:] == S[:-1]])
+        sign[twin] = [path.direction_after(float(S[i]))[0] * path.dirs[0, 0] for i in twin]
+        DD = DD * sign[:, None]
+    K = None if K is None else subset_modes(K, path.frames_at(S))
+    _, (R1, R2) = seeded_jets(model, path.at(S), TT, K, only, path.dirs[0], DD, order=2)
+    return finite_or_zero(-solve_stacked(R1[1:].transpose(1, 2, 0), R2[0]))
