@@ -82,3 +82,72 @@ def test_cli_cells_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["cells", "--kmax", "1"]) == 2
     assert "--kmax" in capsys.readouterr().err
     assert main(["cells", "--kmax", "3", "--count"]) == 2
+
+
+def test_a_count_beyond_the_catalogs_is_refused_with_its_estimate(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # K = 5 at F = 1 means 12-link chains: the catalogs stop at 10 links, and the atlas
+    # with MJs counted 248203 chains there (minutes of work)
+    assert main(["cells", "--kmax", "5", "--dof", "1", "--count"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    err = captured.err.strip()
+    assert "\n" not in err
+    assert err.startswith("mjstruct cells: --kmax: K = 5 (12 links)")
+    assert "about 2.5e+05 chains" in err and "min on one worker" in err
+    assert "--large" in err
+
+
+def test_the_estimate_names_exactly_the_atlases_not_shipped() -> None:
+    from mjstruct.structure.mobility import link_count
+    from mjstruct.synthesis.catalog import SHIPPED
+    from mjstruct.synthesis.cells import enumerations
+
+    for F in (1, 2, 3):
+        jobs = enumerations(F, 6)
+        assert [(e.K, e.n) for e in jobs] == [
+            (K, link_count(F, K)) for K in range(2, 7) if (F, link_count(F, K)) not in SHIPPED
+        ]
+    assert [e.chains for e in enumerations(1, 5)] == [248203]  # a count the atlas made
+
+
+def test_large_lifts_the_limit(monkeypatch: pytest.MonkeyPatch) -> None:
+    import mjstruct.synthesis.cells as cells_module
+
+    seen: dict[str, object] = {}
+
+    def fake_counts(*args: object, **kwargs: object) -> list[object]:
+        seen.update(kwargs)
+        return []
+
+    monkeypatch.setattr(cells_module, "code_counts", fake_counts)
+    assert main(["cells", "--kmax", "5", "--dof", "1", "--count", "--large", "--json"]) == 0
+    assert seen["limit"] is None
+    assert main(["cells", "--kmax", "5", "--dof", "1", "--count", "--json"]) == 0
+    assert seen["limit"] == cells_module.ENUMERATION_LIMIT
+
+
+def test_an_enumeration_shows_progress_on_a_terminal(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import io
+    import sys
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    calls: list[tuple[int, int]] = []
+    # F = 3, K = 2: 8 links, not shipped, enumerated in a fraction of a second
+    rows = code_counts(3, 2, progress=lambda done, total: calls.append((done, total)))
+    assert calls and calls[-1][0] == calls[-1][1] > 0
+    assert sum(r.count for r in rows) == atlas(3, 8, mj=True).count - atlas(3, 8).count
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main(["cells", "--kmax", "2", "--dof", "3", "--count"]) == 0
+    assert "cells F=3 K<=2" in terminal.getvalue() and "tasks" in terminal.getvalue()
+    quiet = Terminal()
+    monkeypatch.setattr(sys, "stderr", quiet)
+    assert main(["cells", "--kmax", "2", "--dof", "3", "--count", "--json"]) == 0
+    assert quiet.getvalue() == ""  # JSON output: no bar

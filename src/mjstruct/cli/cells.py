@@ -1,4 +1,9 @@
-"""``mjstruct cells --kmax K [--dof F] [--count]``: synthesis cells and realisable codes."""
+"""``mjstruct cells --kmax K [--dof F] [--count]``: synthesis cells and realisable codes.
+
+``--count`` beyond the shipped catalogs enumerates atlases: a job estimated above
+:data:`mjstruct.synthesis.cells.ENUMERATION_LIMIT` chains is refused with its estimate
+unless ``--large``; a long one shows a progress bar on a terminal.
+"""
 
 from __future__ import annotations
 
@@ -9,6 +14,7 @@ from typing import Any
 from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 from mjstruct.structure.mobility import link_count
+from mjstruct.synthesis.cells import ENUMERATION_LIMIT
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -25,7 +31,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--workers", type=int, default=1, help="processes (default 1; at most the cores)"
     )
     p.add_argument(
-        "--large", action="store_true", help=f"allow --kmax above {MAX_KMAX} (a long run)"
+        "--large",
+        action="store_true",
+        help=f"allow --kmax above {MAX_KMAX}, and a --count that enumerates more than "
+        f"{ENUMERATION_LIMIT} chains beyond the shipped catalogs (a long run)",
     )
     p.add_argument("--json", action="store_true")
 
@@ -67,10 +76,7 @@ def run(args: argparse.Namespace) -> int:
     out: dict[str, Any] = {"kmax": args.kmax, "count": len(cs), "cells": []}
     counts: dict[tuple[int, int], list[Any]] = {}
     if args.count:
-        with flag_names(limit="--kmax", workers="--workers"):
-            rows = code_counts(
-                args.dof, args.kmax, args.fractionated, workers=args.workers, with_sj=args.sj
-            )
+        rows = _counts(args, code_counts)
         for r in rows:
             counts.setdefault((r.K, r.V), []).append(r)
     for c in cs:
@@ -118,3 +124,30 @@ def run(args: argparse.Namespace) -> int:
         lines.append(f"K = {r['K']}, V = 0: [LA] {r['LA']}: {r['chains']} chains")
     emit_text("\n".join(lines))
     return 0
+
+
+def _counts(args: argparse.Namespace, code_counts: Any) -> Any:
+    """``code_counts`` for the command: refused with the estimate unless ``--large``,
+    with a progress bar on a terminal."""
+    from mjstruct.synthesis.parallel import ProgressBar
+
+    bar = ProgressBar.for_cli(f"cells F={args.dof} K<={args.kmax}", args.json)
+    try:
+        with flag_names(workers="--workers"):
+            return code_counts(
+                args.dof,
+                args.kmax,
+                args.fractionated,
+                workers=args.workers,
+                with_sj=args.sj,
+                limit=None if args.large else ENUMERATION_LIMIT,
+                progress=bar,
+            )
+    except MechanismError as exc:
+        text = str(exc)
+        if text.startswith("limit: "):
+            raise MechanismError(
+                f"--kmax: {text.removeprefix('limit: ')}; pass --large to run it "
+                "(or a smaller --kmax)"
+            ) from None
+        raise

@@ -32,12 +32,20 @@ Cell(K=3, V=4, MJA=((4, 0), (2, 1), (0, 2)))
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from mjstruct.errors import expect_int
+from mjstruct.errors import MechanismError, expect_int
 from mjstruct.structure.mobility import link_count
+
+ENUMERATION_LIMIT = 20_000
+"""Largest estimated number of chains :func:`code_counts` enumerates (beyond the shipped
+catalogs) without being asked: about 10 s on one core of a 2-core machine."""
+
+#: chains enumerated per second and worker, slowest and fastest measured (atlas with
+#: MJs and fractionated chains, F = 1 at 10 links and F = 2 at 11 links, loaded machine)
+CHAINS_PER_SECOND = (1000, 3000)
 
 
 @dataclass(frozen=True)
@@ -110,24 +118,116 @@ class CodeCount:
     planar: int
 
 
+@dataclass(frozen=True)
+class Enumeration:
+    """The part of :func:`code_counts` that the shipped catalogs do not hold: one atlas
+    of ``n`` links (K loops) with about ``chains`` chains (None: no estimate)."""
+
+    K: int
+    n: int
+    chains: int | None
+
+
+def enumerations(F: int, kmax: int) -> list[Enumeration]:
+    """The atlases :func:`code_counts` has to enumerate for F DOF and K <= ``kmax``.
+
+    >>> enumerations(1, 4)           # K <= 4: 6..10 links, all shipped
+    []
+    >>> enumerations(1, 5)           # K = 5: 12 links, counted once by the atlas
+    [Enumeration(K=5, n=12, chains=248203)]
+    """
+    from mjstruct.synthesis.catalog import SHIPPED
+    from mjstruct.synthesis.job_size import chain_count_estimate
+
+    out = []
+    for K in range(2, kmax + 1):
+        n = link_count(F, K)
+        if (F, n) not in SHIPPED:
+            out.append(Enumeration(K, n, chain_count_estimate(F, n, mj=True, fractionated=True)))
+    return out
+
+
+def check_enumeration_size(F: int, kmax: int, limit: int | None, workers: int = 1) -> None:
+    """Refuse (``MechanismError`` naming ``limit``) a :func:`code_counts` job whose
+    enumeration is estimated above ``limit`` chains, or cannot be estimated beyond
+    K = 3; None: no limit.
+
+    >>> check_enumeration_size(1, 5, 20_000)
+    Traceback (most recent call last):
+    ...
+    mjstruct.errors.MechanismError: limit: K = 5 (12 links) is not in the shipped \
+catalogs: about 2.5e+05 chains to enumerate (more than 20000), about 1.4 to 4.1 min \
+on one worker
+    """
+    from mjstruct.synthesis.job_size import SMALL_LOOPS, size_text
+
+    if limit is None:
+        return
+    jobs = enumerations(F, kmax)
+    unknown = [e for e in jobs if e.chains is None and e.K > SMALL_LOOPS]
+    if unknown:
+        e = unknown[0]
+        raise MechanismError(
+            f"limit: K = {e.K} ({e.n} links) is not in the shipped catalogs and there is "
+            f"no estimate of its size for F = {F} (only up to K = {SMALL_LOOPS} runs unasked)"
+        )
+    total = sum(e.chains or 0 for e in jobs)
+    if total <= limit:
+        return
+    where = ", ".join(f"K = {e.K} ({e.n} links)" for e in jobs)
+    verb = "is" if len(jobs) == 1 else "are"
+    raise MechanismError(
+        f"limit: {where} {verb} not in the shipped catalogs: about {size_text(total)} "
+        f"chains to enumerate (more than {limit}), {duration_text(total, workers)}"
+    )
+
+
+def duration_text(chains: int, workers: int = 1) -> str:
+    """How long enumerating ``chains`` takes, as the range measured (CHAINS_PER_SECOND).
+
+    >>> duration_text(248203)
+    'about 1.4 to 4.1 min on one worker'
+    >>> duration_text(2_000, 2), duration_text(10**9)
+    ('about 0.33 to 1 s on 2 workers', 'about 3.9 to 12 days on one worker')
+    """
+    slow, fast = (chains / (rate * workers) for rate in CHAINS_PER_SECOND)
+    unit, size = next(
+        ((u, s) for u, s in (("days", 86400), ("h", 3600), ("min", 60)) if fast >= s),
+        ("s", 1),
+    )
+    on = "one worker" if workers == 1 else f"{workers} workers"
+    return f"about {fast / size:.2g} to {slow / size:.2g} {unit} on {on}"
+
+
 def code_counts(
-    F: int, kmax: int, fractionated: bool = False, workers: int = 1, with_sj: bool = False
+    F: int,
+    kmax: int,
+    fractionated: bool = False,
+    workers: int = 1,
+    with_sj: bool = False,
+    limit: int | None = ENUMERATION_LIMIT,
+    progress: Callable[[int, int], None] | None = None,
 ) -> list[CodeCount]:
     """Realisation counts of every (cell, [MJA], [LA]) for F DOF, K <= kmax.
 
     Uses the shipped catalog when (F, n) is shipped and not ``fractionated`` beyond
     it, else enumerates with :func:`mjstruct.synthesis.atlas.atlas` (``mj=True``).
     ``with_sj`` adds the simple-joint rows (V = 0).
+
+    An enumeration estimated above ``limit`` chains (:func:`check_enumeration_size`)
+    is refused before any work; ``limit=None`` runs it anyway. ``progress(done,
+    total)`` is called after each task of each enumeration.
     """
     expect_int(F, "F", 0)
     expect_int(kmax, "kmax")
     expect_int(workers, "workers", 1)
+    check_enumeration_size(F, kmax, limit, workers)
     out = []
     for K in range(2, kmax + 1):
         n = link_count(F, K)
         tally: Counter[tuple[int, tuple[int, ...], tuple[int, ...]]] = Counter()
         planar: Counter[tuple[int, tuple[int, ...], tuple[int, ...]]] = Counter()
-        for LA, MJA, V, is_planar, is_frac in _chains(F, n, workers):
+        for LA, MJA, V, is_planar, is_frac in _chains(F, n, workers, progress):
             if is_frac and not fractionated:
                 continue
             key = (V, _pad(MJA, K - 1), _pad(LA, K))
@@ -141,7 +241,9 @@ def code_counts(
     return out
 
 
-def _chains(F: int, n: int, workers: int) -> list[tuple[Any, ...]]:
+def _chains(
+    F: int, n: int, workers: int, progress: Callable[[int, int], None] | None = None
+) -> list[tuple[Any, ...]]:
     from mjstruct.synthesis.catalog import SHIPPED, read_catalog
 
     if (F, n) in SHIPPED:
@@ -153,7 +255,8 @@ def _chains(F: int, n: int, workers: int) -> list[tuple[Any, ...]]:
             ]
     from mjstruct.synthesis.atlas import atlas
 
-    a = atlas(F, n, mj=True, fractionated=True, workers=workers)
+    # the size was checked for the whole job (check_enumeration_size)
+    a = atlas(F, n, mj=True, fractionated=True, workers=workers, progress=progress, limit=None)
     return [(c.LA, c.MJA, c.V, c.planar, c.fractionated) for c in a.chains]
 
 
