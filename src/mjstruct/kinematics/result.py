@@ -66,6 +66,10 @@ class KinematicsResult:
     #: frames whose positions exist (``valid`` ones, and singular frames where only the
     #: velocities and accelerations are infinite); default: ``valid``
     assembled: BoolArray | None = None
+    #: frames where only some groups assemble (a later group does not): there each
+    #: joint, point and link is given where its own values exist (finite), the items
+    #: of the groups that do not assemble are null; default: none
+    partial: BoolArray | None = None
     _on_demand: Callable[[], dict[str, Any]] | None = field(default=None, repr=False)
 
     @property
@@ -116,10 +120,13 @@ class KinematicsResult:
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON object (nulls where a frame does not assemble)."""
 
-        placed = self.placed
+        placed, valid = self.placed, self.valid
+        if self.partial is not None:
+            # the items of the groups that assemble keep their (finite) values
+            placed, valid = placed | self.partial, valid | self.partial
 
         def lst(a: FloatArray, key: str) -> list[float | None]:
-            mask = placed if key in _POSITIONS else self.valid
+            mask = placed if key in _POSITIONS else valid
             return [
                 float(x) if ok and np.isfinite(x) else None for x, ok in zip(a, mask, strict=True)
             ]
@@ -186,8 +193,15 @@ class KinematicsResult:
         data = np.column_stack(cols)
         nq = self.q.shape[1]
         position = np.array([n.rsplit(".", 1)[-1] in _POSITIONS for n in names[nq:]])
-        data[np.ix_(~self.placed, np.flatnonzero(position) + nq)] = np.nan
-        data[np.ix_(~self.valid, np.flatnonzero(~position) + nq)] = np.nan
+        placed, valid = self.placed, self.valid
+        if self.partial is not None:
+            placed, valid = placed | self.partial, valid | self.partial
+            # a partly assembled frame keeps the finite values of the groups that assemble
+            rows = data[self.partial]
+            rows[~np.isfinite(rows)] = np.nan
+            data[self.partial] = rows
+        data[np.ix_(~placed, np.flatnonzero(position) + nq)] = np.nan
+        data[np.ix_(~valid, np.flatnonzero(~position) + nq)] = np.nan
         return names, data
 
 
@@ -258,6 +272,7 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
     # a singular frame (a dead point of the drivers) has positions but infinite
     # derivatives: it assembles, though it is not valid
     # (a frame that breaks a redundant constraint has finite derivatives: not assembled)
+    partial = None
     if valid.all():
         assembled = valid.copy()  # every frame valid: every frame assembles
     else:
@@ -268,6 +283,10 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
         if motion.closure is not None:
             pos_ok &= motion.closure.converged
         assembled = valid | (pos_ok & ~der_ok)
+        # some link has no position there: its group (and those after it) does not
+        # assemble, the others do (a frame that breaks a redundant constraint has every
+        # position: nothing moves there)
+        partial = ~pos_ok if (~pos_ok).any() else None
 
     def scaled(a: FloatArray, k: float) -> FloatArray:
         return a if k == 1.0 else a * k
@@ -325,4 +344,5 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
         {},
         motion.closure,
         assembled=assembled,
+        partial=partial,
     )

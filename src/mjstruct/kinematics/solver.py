@@ -256,6 +256,7 @@ def _tail(r: KinematicsResult, n: int) -> KinematicsResult:
         events=[],
         closure=None if r.closure is None else _tail_closure(r.closure, n),
         assembled=None if r.assembled is None else r.assembled[n:],
+        partial=None if r.partial is None else r.partial[n:],
     )
 
 
@@ -343,9 +344,14 @@ def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
     """
     if r.valid.all():
         return []  # every frame valid (and so placed): no run to word
-    out = _runs(
-        r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j}); values are null", offset
-    )
+    out = [
+        _unassembled(r, line, i)
+        for line, i in zip(
+            _runs(r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j})", offset),
+            _run_starts(~r.placed),
+            strict=True,
+        )
+    ]
     out += _runs(
         r,
         r.placed & ~r.valid,
@@ -375,6 +381,29 @@ def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
             "found by continuation across the gap (same assembly modes), not a physical motion"
         )
     return out
+
+
+def _run_starts(mask: npt.NDArray[np.bool_]) -> list[int]:
+    """The first frame of each run of ``mask``."""
+    edge = np.concatenate([[False], mask])
+    return [int(i) for i in np.flatnonzero(edge[1:] & ~edge[:-1])]
+
+
+def _unassembled(r: KinematicsResult, line: str, i: int) -> str:
+    """``line`` (a run of frames that do not assemble from frame ``i``) with what is null.
+
+    Where only some groups assemble (``r.partial``), the joints of the others are named:
+    the joints whose groups assemble keep their values.
+    """
+    if r.partial is None or not r.partial[i]:
+        return f"{line}; values are null"
+    missing = [j for j, v in r.joints.items() if not np.isfinite(v["x"][i])]
+    if len(missing) == len(r.joints):
+        return f"{line}; values are null"
+    return (
+        f"{line} of joints {', '.join(missing)}: their values are null; the groups that "
+        "assemble are given"
+    )
 
 
 def _runs(
