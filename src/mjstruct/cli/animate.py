@@ -40,8 +40,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 #: frames an animation may have without --long (3 minutes at the default 20 fps)
 MAX_FRAMES = 3600
 #: the animation's figure: 6 inches wide, at most 2 × 6 + 0.6 inches high
-#: (:func:`mjstruct.plot.drawing.figure_for`), one RGBA image per frame kept in memory
-#: by the .gif and .html writers (.mp4 streams them to ffmpeg)
+#: (:func:`mjstruct.plot.drawing.figure_for`); the .gif and .html writers keep one RGB
+#: image per frame and its palette indices (4 bytes a pixel; .mp4 streams to ffmpeg)
 FRAME_INCHES = (6.0, 12.6)
 
 

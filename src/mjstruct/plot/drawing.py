@@ -33,12 +33,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from mjstruct.plot.annotations import (
-    draw_assur_legend,
-    draw_branch_marks,
-    draw_footer,
-    draw_scale_bar,
-)
+from mjstruct.plot.annotations import AnnotationArtists
 from mjstruct.plot.layout import figure_for
 from mjstruct.plot.scene import (
     PATH_FRAMES,
@@ -48,19 +43,7 @@ from mjstruct.plot.scene import (
     scene_at,
     scene_over_cycle,
 )
-from mjstruct.plot.scheme import (
-    draw_block,
-    draw_driver_marks,
-    draw_ground,
-    draw_guide,
-    draw_labels,
-    draw_link,
-    draw_paths,
-    draw_pin,
-    draw_points,
-    link_colours,
-    q_text,
-)
+from mjstruct.plot.scheme import SchemeArtists, link_colours
 from mjstruct.plot.style import (
     ACCELERATION_COLOUR,
     ARROW,
@@ -72,7 +55,7 @@ from mjstruct.plot.style import (
     PIN,
     VELOCITY_COLOUR,
 )
-from mjstruct.plot.vectors import draw_forces, draw_vectors
+from mjstruct.plot.vectors import VectorArtists
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -89,6 +72,7 @@ __all__ = [
     "PIN",
     "VELOCITY_COLOUR",
     "Scene",
+    "SceneArtists",
     "anchor_positions",
     "artists",
     "draw_scene",
@@ -98,6 +82,60 @@ __all__ = [
     "scene_over_cycle",
     "write_drawing",
 ]
+
+
+class SceneArtists:
+    """Every artist of ``scene`` on ``ax``, built once; :meth:`show` sets them to a frame.
+
+    The axes get the scene's fixed limits; the scheme, the vector layers and the
+    annotations are built in the order they are drawn.  An animation builds one
+    and shows each frame in turn, so only the artists' data change between frames.
+    """
+
+    def __init__(self, ax: Axes, scene: Scene, title: bool = True) -> None:
+        self.ax, self.scene = ax, scene
+        x0, x1, y0, y1 = scene.limits
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+        colours = link_colours(scene)
+        self.scheme = SchemeArtists(ax, scene, colours)
+        self.vectors = VectorArtists(ax, scene)
+        quivers = {layer: q for layer, (q, _, _) in self.vectors.layers.items()}
+        self.annotations = AnnotationArtists(ax, scene, colours, quivers, title=title)
+
+    @property
+    def changing(self) -> list[Any]:
+        """The artists that change from frame to frame, in the order they are drawn
+        (z-order, then the order they were added), leaving out :attr:`labels` and
+        :attr:`keys`; every other artist looks the same at every frame."""
+        order = {id(a): i for i, a in enumerate(self.ax.get_children())}
+        found = self.scheme.changing + self.vectors.changing + self.annotations.changing
+        return sorted(found, key=lambda a: (a.get_zorder(), order[id(a)]))
+
+    @property
+    def labels(self) -> list[Any]:
+        """The ids beside joints, links and points: text that moves but never changes."""
+        return self.scheme.labels
+
+    @property
+    def keys(self) -> list[Any]:
+        """The vector layers' keys: fixed in place, shown while their layer is."""
+        return list(self.annotations.keys.values())
+
+    def show(self, frame: int) -> None:
+        """Set every artist to frame ``frame`` of the scene.
+
+        A frame that does not assemble shows the frame link and a note; a frame at a
+        branch point marks the joint where the branches meet.
+        """
+        k = int(frame)
+        ok = bool(self.scene.motion.valid[k])
+        at = self.scheme.positions(k) if ok else None
+        self.scheme.show(k, at)
+        shown = self.vectors.show(k, ok)
+        self.annotations.show(k, shown, at)
 
 
 def draw_scene(
@@ -113,79 +151,20 @@ def draw_scene(
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 6))
     k = int(scene.shown[-1]) if frame is None else int(frame)
-    model, motion = scene.model, scene.motion
-    m = model.mechanism
-    x0, x1, y0, y1 = scene.limits
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
-    ax.set_aspect("equal")
-    ax.set_axis_off()
-    colours = link_colours(scene)
-    ok = bool(motion.valid[k])
-    at = anchor_positions(scene, k) if ok else {}
-    for j in m.joints:
-        if j.kind == "R" and model.frame in j.links:
-            draw_ground(ax, scene, j.id)
-    draw_paths(ax, scene)
-    if ok:
-        for jid in model.geometry.axes:
-            draw_guide(ax, scene, jid, at, colours)
-        for link in m.links:
-            if link != model.frame:
-                draw_link(ax, scene, link, at, colours[link])
-        for j in m.joints:
-            if j.kind == "R":
-                draw_pin(ax, scene, j.id, at[j.id])
-            else:
-                draw_block(ax, scene, j.id, at, k, colours)
-        draw_driver_marks(ax, scene, at, k)
-        draw_labels(ax, scene, at)
-        draw_points(ax, scene, at)
-        quivers: dict[str, Any] = {}
-        for layer, order, colour in (
-            ("velocity", 1, VELOCITY_COLOUR),
-            ("acceleration", 2, ACCELERATION_COLOUR),
-        ):
-            if layer in scene.layers:
-                quivers[layer] = draw_vectors(ax, scene, k, layer, order, colour)
-        quivers.update(draw_forces(ax, scene, k))
-        draw_footer(ax, scene, k, quivers)
-    else:
-        ax.text(
-            0.5,
-            0.5,
-            f"q = {q_text(scene, k)}: the mechanism does not assemble",
-            transform=ax.transAxes,
-            ha="center",
-            va="center",
-            fontsize=10,
-            color=DRIVER_COLOUR,
-            gid="note",
-        )
-    draw_branch_marks(ax, scene, k, at)
-    if "assur" in scene.layers:
-        draw_assur_legend(ax, scene, colours)
-    draw_scale_bar(ax, scene)
-    if title:
-        name = m.name or "mechanism"
-        # a text in axes coordinates: set_title costs a tight-bbox pass per frame
-        ax.text(
-            0.5,
-            1.0,
-            f"{name}\nq = {q_text(scene, k)}",
-            transform=ax.transAxes,
-            ha="center",
-            va="bottom",
-            fontsize=10,
-            gid="title",
-        )
+    SceneArtists(ax, scene, title=title).show(k)
     return ax
 
 
 def artists(ax: Axes, gid: str) -> list[Any]:
-    """The artists of ``ax`` whose ``gid`` is ``gid`` (or starts with ``gid`` + ':')."""
+    """The visible artists of ``ax`` whose ``gid`` is ``gid`` (or starts with ``gid`` + ':').
+
+    Artists hidden at the frame shown (a layer with nothing to draw there, the pins of
+    a frame that does not assemble) are left out.
+    """
     found = []
     for a in ax.get_children():
+        if not a.get_visible():
+            continue
         g = a.get_gid()
         if g is not None and (g == gid or g.startswith(gid + ":")):
             found.append(a)

@@ -84,10 +84,18 @@ def footer_slot(scene: Scene, i: int) -> tuple[float, float]:
     return x0 + (0.30 + 0.36 * (i % 2)) * w, top - (i // 2 + 0.5) * ROW * w
 
 
-def figure_for(scene: Scene, width: float = 7.0) -> Any:
-    """A figure whose shape follows the scene's limits (title room included)."""
-    import matplotlib.pyplot as plt
+def figure_for(scene: Scene, width: float = 7.0, pyplot: bool = True) -> Any:
+    """A figure whose shape follows the scene's limits (title room included).
 
+    ``pyplot=False``: a figure pyplot does not track (nothing to close, never shown).
+    """
     x0, x1, y0, y1 = scene.limits
     ratio = min(2.0, max(0.5, (y1 - y0) / (x1 - x0)))
-    return plt.figure(figsize=(width, width * ratio + 0.6))
+    size = (width, width * ratio + 0.6)
+    if not pyplot:
+        from matplotlib.figure import Figure
+
+        return Figure(figsize=size)
+    import matplotlib.pyplot as plt
+
+    return plt.figure(figsize=size)
