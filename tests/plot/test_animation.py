@@ -19,7 +19,8 @@ from mjstruct.plot.drawing import artists, scene_over_cycle
 
 
 def scene_of(name: str, frames: int, layers: tuple[str, ...] = ()):
-    return scene_over_cycle(KinematicModel.build(read_mechanism(example_path(name))), frames, layers)
+    model = KinematicModel.build(read_mechanism(example_path(name)))
+    return scene_over_cycle(model, frames, layers)
 
 
 def full_draw(renderer: FrameRenderer, k: int) -> np.ndarray:
