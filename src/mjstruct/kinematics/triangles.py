@@ -64,7 +64,9 @@ class Pose:
     def carry(self, z: complex) -> Jet:
         """:meth:`point` without its own floating-point error state (for the steps
         of :func:`~mjstruct.kinematics.evaluate.evaluate`, which sets it once)."""
-        if z == self.zA:  # the anchor itself: nothing to compute
+        # the anchor itself: nothing to compute (per-frame geometry, where the design
+        # plug-in gives each frame its own reference positions, compares arrays)
+        if z is self.zA or (_scalar(z) and _scalar(self.zA) and z == self.zA):
             return list(self.A)
         rd = self.r * (z - self.zA)
         out = [self.A[0] + rd]
@@ -84,6 +86,10 @@ class Pose:
             if len(self.A) > 2:
                 out.append((1j * self.w[1] - self.w[0] ** 2) * rv)
         return out
+
+
+def _scalar(z: object) -> bool:
+    return not isinstance(z, np.ndarray)
 
 
 def dot(a: Array, b: Array) -> Array:

@@ -23,6 +23,11 @@ Examples
 
 from __future__ import annotations
 
+from typing import overload
+
+import numpy as np
+import numpy.typing as npt
+
 from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.steps.base import (
     PlanRule,
@@ -43,21 +48,37 @@ from mjstruct.kinematics.triangles import (
     guide_pair,
     rotation_between,
 )
+from mjstruct.typing import FloatArray
+
+
+@overload
+def side(x: float) -> int: ...
+@overload
+def side(x: FloatArray) -> npt.NDArray[np.int8]: ...
+def side(x: float | FloatArray) -> int | npt.NDArray[np.int8]:
+    """+1 where ``x >= 0``, else -1: an assembly mode from a signed quantity.
+
+    Per-frame geometry (each frame its own reference configuration, arrays of centres
+    instead of numbers: the design plug-in's population) gives one mode per frame.
+    """
+    if isinstance(x, np.ndarray):
+        return np.where(x >= 0, 1, -1).astype(np.int8)
+    return 1 if x >= 0 else -1
 
 
 def mode_rrr(z1: complex, z2: complex, zX: complex) -> int:
     """Assembly mode of a dyad RRR: the side of P1P2 the joint is on."""
-    return 1 if ((zX - z1) * (z2 - z1).conjugate()).imag >= 0 else -1
+    return side(((zX - z1) * (z2 - z1).conjugate()).imag)
 
 
 def mode_rrp(z1: complex, zX: complex, axis: complex) -> int:
     """Assembly mode of a dyad RRP: which way along the guide the joint lies from P1."""
-    return 1 if ((zX - z1) * axis.conjugate()).real >= 0 else -1
+    return side(((zX - z1) * axis.conjugate()).real)
 
 
 def mode_rpr(z1: complex, z2: complex, axis: complex) -> int:
     """Mode of a dyad RPR: whether P1P2 runs along the guide (+1) or against it (-1)."""
-    return 1 if ((z2 - z1) * axis.conjugate()).real >= 0 else -1
+    return side(((z2 - z1) * axis.conjugate()).real)
 
 
 # -- RRR ------------------------------------------------------------------------------
