@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.dynamics.data import DynamicsData, read_dynamics
+from mjstruct.dynamics.data import DynamicsData
 from mjstruct.dynamics.equation import (
     METHODS,
     PathForce,
@@ -35,6 +35,7 @@ from mjstruct.dynamics.equation import (
     generalised_force,
     steady_parameter,
 )
+from mjstruct.dynamics.inputs import read_inputs
 from mjstruct.dynamics.matrices import LinkMotion, active_forces, check_dimensions, link_motion
 from mjstruct.dynamics.memory import check_analysis_memory
 from mjstruct.dynamics.reactions import (
@@ -46,16 +47,9 @@ from mjstruct.dynamics.reactions import (
     system_matrix,
     unknowns,
 )
-from mjstruct.errors import (
-    MechanismError,
-    NumericalError,
-    expect_ids,
-    expect_instance,
-    expect_int,
-    expect_number,
-)
+from mjstruct.errors import MechanismError, NumericalError, expect_int, expect_number
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.mechanism import Mechanism, expect_mechanism
+from mjstruct.mechanism import Mechanism
 from mjstruct.output_numbers import json_list, json_number
 
 FloatArray = npt.NDArray[np.float64]
@@ -213,7 +207,6 @@ def dynamic_analysis(
     The function is ``dynamic_analysis`` because ``mjstruct.dynamics`` is the
     subpackage.
     """
-    expect_mechanism(mechanism, "mechanism")
     modes = [speed is not None, qdot0 is not None, q is not None]
     if sum(modes) != 1:
         raise MechanismError("speed: give exactly one of speed, qdot0 and q")
@@ -221,9 +214,6 @@ def dynamic_analysis(
         if value is not None:
             expect_number(value, name)
     frames = expect_int(frames, "frames", 1)
-    expect_ids(drivers, "drivers")
-    if model is not None:
-        expect_instance(model, "model", KinematicModel, "a KinematicModel")
     if method not in METHODS:
         raise MechanismError(
             f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})"
@@ -234,35 +224,7 @@ def dynamic_analysis(
         raise MechanismError(
             f"outputs: unknown output {sorted(unknown_out)[0]!r} (one of {', '.join(OUTPUTS)})"
         )
-    data = read_dynamics(mechanism)
-    if parameters:
-        for name, value in parameters.items():
-            if name not in data.parameters:
-                raise MechanismError(f"parameters: {name!r} is not a parameter of the file")
-            if not np.isfinite(value):
-                raise MechanismError(f"parameters: {name!r} must be finite")
-        fixed = {**data.parameters, **{k: float(v) for k, v in parameters.items()}}
-        data = DynamicsData(
-            data.inertia,
-            data.gravity,
-            fixed,
-            None if data.unknown in parameters else data.unknown,
-            data.loads,
-            data.energy_change,
-        )
-    if model is None:
-        model = KinematicModel.build(mechanism, drivers)
-    else:
-        if model.mechanism is not mechanism and model.mechanism != mechanism:
-            raise MechanismError(
-                f"model: a kinematic model of {model.mechanism.name or 'another mechanism'!r}, "
-                f"not of {mechanism.name or 'this mechanism'!r}"
-            )
-        if drivers is not None and tuple(drivers) != model.drivers:
-            raise MechanismError(
-                f"drivers: {', '.join(drivers)} differ from the model's "
-                f"({', '.join(model.drivers)}); give drivers or a model built with them"
-            )
+    model, data = read_inputs(mechanism, drivers, model, parameters)
     D = len(model.drivers)
     if D == 0:
         raise MechanismError("drivers: dynamics needs at least one driver")

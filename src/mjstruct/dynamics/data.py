@@ -40,6 +40,8 @@ from mjstruct.mechanism import Mechanism
 if TYPE_CHECKING:
     import sympy
 
+    from mjstruct.kinematics.geometry import Geometry
+
 FloatArray = npt.NDArray[np.float64]
 
 #: the file keys this module reads
@@ -123,6 +125,37 @@ class DynamicsData:
     loads: tuple[Load, ...]
     energy_change: float
 
+    def with_parameters(self, given: Mapping[str, float] | None) -> DynamicsData:
+        """These data with parameter values ``given`` (the unknown too, then known).
+
+        Raises
+        ------
+        MechanismError
+            naming ``parameters``: a name that is not a parameter of the file, a value
+            that is not a finite number.
+        """
+        if not given:
+            return self
+        values: dict[str, float] = {}
+        for name, value in given.items():
+            if name not in self.parameters:
+                raise MechanismError(f"parameters: {name!r} is not a parameter of the file")
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float, np.integer, np.floating))
+                or not np.isfinite(value)
+            ):
+                raise MechanismError(f"parameters: {name!r} must be a finite number")
+            values[name] = float(value)
+        return DynamicsData(
+            self.inertia,
+            self.gravity,
+            {**self.parameters, **values},
+            None if self.unknown in values else self.unknown,
+            self.loads,
+            self.energy_change,
+        )
+
     def parameter_values(self, **given: float) -> dict[str, float]:
         """All parameters as numbers, the unknown taken from ``given``."""
         out = {k: v for k, v in self.parameters.items() if v is not None}
@@ -177,22 +210,33 @@ def _link(value: Any, m: Mechanism, where: str) -> str:
     return link
 
 
-def centroid(m: Mechanism, link: str) -> complex:
+def centroid(m: Mechanism, link: str, centres: Mapping[str, complex]) -> complex:
     """The centroid of a link's distinct joint centres (reference configuration)."""
     pts: list[complex] = []
     for jid in m.link_joints[link]:
-        at = m.joint(jid).at
-        if at is not None:
-            z = complex(*at)
-            if all(abs(z - p) > 1e-12 * (1 + abs(z)) for p in pts):
-                pts.append(z)
-    if not pts:
-        raise MechanismError(f"inertia.{link}.com: the link has no joint centres; give 'com'")
+        z = centres[jid]
+        if all(abs(z - p) > 1e-12 * (1 + abs(z)) for p in pts):
+            pts.append(z)
     return sum(pts, 0j) / len(pts)
 
 
-def read_dynamics(m: Mechanism) -> DynamicsData:
+def _joint_centres(m: Mechanism) -> dict[str, complex]:
+    """Every joint centre, for a mechanism whose geometry nobody has read yet."""
+    if m.frame is None:
+        raise MechanismError("frame: dynamics needs a frame link")
+    for k, j in enumerate(m.joints):
+        if j.at is None:
+            raise MechanismError(
+                f"joints[{k}].at: missing for joint {j.id!r} (dynamics needs the geometry)"
+            )
+    return {j.id: complex(*j.at) for j in m.joints if j.at is not None}
+
+
+def read_dynamics(m: Mechanism, geometry: Geometry | None = None) -> DynamicsData:
     """Read and check the dynamics keys of ``m`` (see the module docstring).
+
+    ``geometry``: the mechanism's geometry when already read and checked (the default
+    centres of mass are taken from it; without it the joint centres are checked here).
 
     Raises
     ------
@@ -201,13 +245,7 @@ def read_dynamics(m: Mechanism) -> DynamicsData:
         link or on the frame, an unparsable expression, an unknown symbol, two
         unknown parameters, a key of the wrong type.
     """
-    if m.frame is None:
-        raise MechanismError("frame: dynamics needs a frame link")
-    for k, j in enumerate(m.joints):
-        if j.at is None:
-            raise MechanismError(
-                f"joints[{k}].at: missing for joint {j.id!r} (dynamics needs the geometry)"
-            )
+    centres = _joint_centres(m) if geometry is None else geometry.centres
     extra = m.extra
     moving = [link for link in m.links if link != m.frame]
 
@@ -227,11 +265,11 @@ def read_dynamics(m: Mechanism) -> DynamicsData:
             raise MechanismError(f"{where}.mass: missing")
         mass = _number(spec["mass"], f"{where}.mass", 0.0)
         J = _number(spec.get("J", 0.0), f"{where}.J", 0.0)
-        com = _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link)
+        com = _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link, centres)
         inertia[link] = LinkInertia(mass, J, com)
     for link in moving:
         if link not in inertia:
-            inertia[link] = LinkInertia(0.0, 0.0, centroid(m, link))
+            inertia[link] = LinkInertia(0.0, 0.0, centroid(m, link, centres))
 
     raw_g = extra.get("gravity", [0.0, 0.0])
     gravity = _xy(raw_g, "gravity")

@@ -47,8 +47,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.dynamics.data import DynamicsData, read_dynamics
+from mjstruct.dynamics.data import DynamicsData
 from mjstruct.dynamics.equation import PathForce, steady_parameter
+from mjstruct.dynamics.inputs import read_inputs
 from mjstruct.dynamics.time_terms import TABLE_POINTS, ReducedEquation, reduced_equation
 from mjstruct.errors import MechanismError, NumericalError, expect_int
 from mjstruct.kinematics.model import KinematicModel
@@ -303,15 +304,6 @@ def _integrate(
     return _Path((first, _solve(eq, (t1, t_end), y1, "Radau", rtol, atol, rest, False, budget)))
 
 
-def _model_and_data(
-    mechanism: Mechanism | KinematicModel, drivers: Iterable[str] | None
-) -> tuple[KinematicModel, DynamicsData]:
-    if isinstance(mechanism, KinematicModel):
-        return mechanism, read_dynamics(mechanism.mechanism)
-    data = read_dynamics(mechanism)  # bad dynamics data is named before the planning
-    return KinematicModel.build(mechanism, drivers), data
-
-
 def motion_in_time(
     mechanism: Mechanism | KinematicModel,
     t_end: float,
@@ -396,7 +388,10 @@ def motion_in_time(
         raise MechanismError(f"atol: must be a finite number > 0, got {atol}")
     if table is not None and (isinstance(table, bool) or int(table) != table or table < 16):
         raise MechanismError(f"table: must be an integer >= 16 or None, got {table}")
-    model, data = _model_and_data(mechanism, drivers)
+    if isinstance(mechanism, KinematicModel):
+        model, data = read_inputs(mechanism.mechanism, drivers, mechanism)
+    else:
+        model, data = read_inputs(mechanism, drivers)
     if len(model.drivers) != 1:
         raise MechanismError(
             "drivers: motion in time needs exactly one driver, "
@@ -535,29 +530,15 @@ def _parameters(
     warnings: list[str],
 ) -> dict[str, float]:
     """Every parameter's value: the file's, overridden, the unknown given or solved."""
-    values = {k: v for k, v in data.parameters.items() if v is not None}
-    for k, v in (given or {}).items():
-        if k not in data.parameters:
-            raise MechanismError(f"parameters: {k!r} is not a parameter of the file")
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v):
-            raise MechanismError(f"parameters: {k!r} must be a finite number")
-        values[k] = float(v)
-    p = data.unknown
-    if p is None or p in values:
-        return values
+    fixed = data.with_parameters(given)
+    p = fixed.unknown
+    if p is None:
+        return fixed.parameter_values()
     if data.uses_qdot:
         raise MechanismError(
             f"parameters.{p}: motion in time needs its value when a load depends on qdot "
             "(pass parameters=)"
         )
-    fixed = DynamicsData(
-        data.inertia,
-        data.gravity,
-        {**data.parameters, **values},
-        p,
-        data.loads,
-        data.energy_change,
-    )
     solved, _, _ = steady_parameter(PathForce(model, fixed, 1.0), 0.0)
     warnings.append(
         f"parameters.{p} = {solved[p]:.12g}, solved for steady motion "

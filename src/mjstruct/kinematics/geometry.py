@@ -40,7 +40,7 @@ from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.drivers import validate_drivers
 
-__all__ = ["COINCIDE", "Geometry", "read_geometry"]
+__all__ = ["COINCIDE", "Geometry", "geometry_of", "read_geometry"]
 
 
 #: hull vertices from which the pairwise distances are taken in numpy blocks
@@ -183,6 +183,17 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
         (a zero-length side), a driver that is not a joint of the mechanism.
     """
     expect_mechanism(m)
+    return geometry_of(m, validate_drivers(m, drivers, balance=False))
+
+
+def geometry_of(m: Mechanism, drivers: tuple[str, ...]) -> Geometry:
+    """:func:`read_geometry` of a mechanism whose ``drivers`` are already checked.
+
+    For entry points that check their inputs once (:meth:`KinematicModel.build
+    <mjstruct.kinematics.model.KinematicModel.build>`): ``m`` is a :class:`Mechanism`
+    and ``drivers`` came from :func:`~mjstruct.structure.drivers.validate_drivers`;
+    only the geometry keys are read and checked here.
+    """
     if m.frame is None:
         raise MechanismError("frame: kinematics needs a frame link")
     centres: dict[str, complex] = {}
@@ -248,7 +259,7 @@ def read_geometry(m: Mechanism, drivers: tuple[str, ...] | None = None) -> Geome
         points[p.id] = (p.link, complex(*p.at))
 
     driver_ref: dict[str, float] = {}
-    for d in validate_drivers(m, drivers, balance=False):
+    for d in drivers:
         j = m.joint(d)
         if j.kind == "P":
             driver_ref[d] = 0.0

@@ -31,17 +31,18 @@ from functools import cached_property
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_ids
 from mjstruct.kinematics.branches import BranchEvent, track_branches
 from mjstruct.kinematics.closure import Closure, close
 from mjstruct.kinematics.evaluate import Evaluation, evaluate
-from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.geometry import Geometry, geometry_of
 from mjstruct.kinematics.jacobian import one_blas_thread
-from mjstruct.kinematics.planner import Plan, plan_kinematics
+from mjstruct.kinematics.planner import Plan, plan_checked
 from mjstruct.kinematics.tolerances import CLOSURE_TOL, REDUNDANT_HOLDS, TOL_FLOOR
 from mjstruct.kinematics.triangles import Jet
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.assur import Decomposition
+from mjstruct.structure.drivers import validate_drivers
 
 __all__ = ["CLOSURE_TOL", "KinematicModel", "Motion"]
 
@@ -84,11 +85,35 @@ class KinematicModel:
         Raises
         ------
         MechanismError
-            missing geometry, or drivers that do not determine the mechanism.
+            not a mechanism, missing geometry, or drivers that do not determine it.
+
+        Notes
+        -----
+        This is where a mechanism and its drivers are checked, once: the model is the
+        validated object that the kinematics, the dynamics and the drawings take, and
+        they trust it.
         """
-        drv = tuple(mechanism.drivers if drivers is None else drivers)
-        geometry = read_geometry(mechanism, drv)
-        plan = plan_kinematics(mechanism, drv, decomposition=decomposition, geometry=geometry)
+        expect_mechanism(mechanism, "mechanism")
+        expect_ids(drivers, "drivers")
+        drv = validate_drivers(mechanism, drivers, balance=False)
+        return cls.from_geometry(mechanism, geometry_of(mechanism, drv), decomposition)
+
+    @classmethod
+    def from_geometry(
+        cls,
+        mechanism: Mechanism,
+        geometry: Geometry,
+        decomposition: Decomposition | None = None,
+    ) -> KinematicModel:
+        """Plan a mechanism whose geometry is read and checked (no second check).
+
+        ``geometry`` is :func:`~mjstruct.kinematics.geometry.geometry_of` the mechanism
+        for checked drivers (its ``driver_ref`` keys, in order, are the drivers): for an
+        entry point that has already checked its inputs (the dynamics reads its data
+        between the geometry and the plan).
+        """
+        drv = tuple(geometry.driver_ref)
+        plan = plan_checked(mechanism, drv, geometry, decomposition)
         return cls(mechanism, geometry, plan)
 
     @cached_property

@@ -48,7 +48,7 @@ from heapq import heappop
 import numpy as np
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.geometry import Geometry, geometry_of
 from mjstruct.kinematics.steps import PLAN_RULES, STEP_KINDS, PlanState, Step, Topology
 from mjstruct.kinematics.steps.drivers import assume_angle, assume_slide
 from mjstruct.kinematics.tolerances import PLAN_RANK_TOL
@@ -63,7 +63,7 @@ from mjstruct.structure.drivers import (
 )
 from mjstruct.typing import FloatArray
 
-__all__ = ["STEP_KINDS", "Plan", "Step", "plan_kinematics"]
+__all__ = ["STEP_KINDS", "Plan", "Step", "plan_checked", "plan_kinematics"]
 
 
 @dataclass(frozen=True)
@@ -271,10 +271,26 @@ def plan_kinematics(
     expect_mechanism(m)
     expect_ids(drivers, "drivers")
     drv = validate_drivers(m, drivers, balance=False)
+    geom = geometry if geometry is not None else geometry_of(m, drv)
+    return plan_checked(m, drv, geom, decomposition)
+
+
+def plan_checked(
+    m: Mechanism,
+    drv: tuple[str, ...],
+    geom: Geometry,
+    decomposition: Decomposition | None = None,
+) -> Plan:
+    """:func:`plan_kinematics` of a mechanism whose drivers and geometry are checked.
+
+    For entry points that check their inputs once (:meth:`KinematicModel.build
+    <mjstruct.kinematics.model.KinematicModel.build>`): ``drv`` came from
+    :func:`~mjstruct.structure.drivers.validate_drivers` and ``geom`` from
+    :func:`~mjstruct.kinematics.geometry.geometry_of` for them.
+    """
     if not drv:
         raise MechanismError("drivers: kinematics needs at least one driver joint")
-    geom = geometry if geometry is not None else read_geometry(m, drv)
-    assert m.frame is not None  # read_geometry checked it
+    assert m.frame is not None  # the geometry's reading checked it
     # one pebble game for the drivers' check and the decomposition
     balance = driver_balance(m, drv)
     generic = _check_drivers(m, geom, balance)

@@ -41,7 +41,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError, NumericalError
-from mjstruct.kinematics.geometry import Geometry, read_geometry
+from mjstruct.kinematics.geometry import Geometry, geometry_of
 from mjstruct.kinematics.tolerances import (
     CORRECT_ACCEPT,
     FD_STEP2,
@@ -57,6 +57,7 @@ from mjstruct.kinematics.tolerances import (
     STEP_TURN,
 )
 from mjstruct.mechanism import Mechanism
+from mjstruct.structure.drivers import validate_drivers
 from mjstruct.typing import FloatArray
 
 #: largest continuation step (in the normalised coordinates)
@@ -89,7 +90,8 @@ class ClosureEquations:
     def build(cls, m: Mechanism, driver: str, output: str | None = None) -> ClosureEquations:
         """Equations of ``m`` with ``driver`` as input and ``output`` (default: see
         :func:`default_output`)."""
-        geom = read_geometry(m, (driver,))
+        # the caller checked m (singular_analysis); the driver is checked here, once
+        geom = geometry_of(m, validate_drivers(m, (driver,), balance=False))
         out = default_output(m, driver) if output is None else output
         moving = tuple(x for x in m.links if x != m.frame)
         size = geom.scale
