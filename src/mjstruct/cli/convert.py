@@ -8,12 +8,21 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from mjstruct.cli.output import driver_list, emit_json, flag_names
+from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
 
 _FORMATS = ("json", "toml", "pyslvs", "pyslvs-project", "graphml", "node-link")
+#: how the success line names each format
+_FORMAT_NAMES = {
+    "json": "mechanism JSON",
+    "toml": "mechanism TOML",
+    "pyslvs": "pyslvs expression",
+    "pyslvs-project": "pyslvs project",
+    "graphml": "GraphML",
+    "node-link": "node-link JSON",
+}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -63,6 +72,12 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(render(m, args.target_format))
         return 0
     target_format = write_as(m, args.output, args.target_format)
+    if not args.json:
+        # what was written where, in one line (the file itself holds the result)
+        emit_text(
+            f"wrote {args.output} ({_FORMAT_NAMES[target_format]}: {m.n} links, "
+            f"{len(m.joints)} joints, from {args.input})"
+        )
     if args.json:
         from mjstruct.structure.isomorphism import canonical_code
 

@@ -148,6 +148,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _run_time(args: argparse.Namespace, m: Mechanism, drivers: list[str] | None) -> int:
     from mjstruct.dynamics.time import motion_in_time, time_csv, time_json, time_report
+    from mjstruct.output_files import replacing
 
     with flag_names(**TIME_FLAGS):
         r = motion_in_time(
@@ -162,7 +163,8 @@ def _run_time(args: argparse.Namespace, m: Mechanism, drivers: list[str] | None)
         )
     if args.csv:
         try:
-            with open(args.csv, "w") as fh:
+            # whole or not at all, a link followed, the umask's permissions
+            with replacing(args.csv) as tmp, open(tmp, "w") as fh:
                 fh.write(time_csv(r))
         except OSError as exc:
             raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None

@@ -15,7 +15,7 @@ import threading
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from mjstruct.cli.output import emit_error
+from mjstruct.cli.output import check_outputs, emit_error
 from mjstruct.errors import MechanismError, NumericalError
 
 COMMANDS: dict[str, str] = {
@@ -84,6 +84,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(words)
     previous = _install_sigterm()
     try:
+        check_outputs(args)  # links, loops, output onto input: before any work
         return int(args._run(args))
     except _Terminated:
         emit_error("mjstruct: terminated")

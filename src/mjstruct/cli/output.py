@@ -17,6 +17,7 @@ long numeric columns (kinematics) stay compact and reports stay readable.
 
 from __future__ import annotations
 
+import argparse
 import json
 import re
 import sys
@@ -148,3 +149,42 @@ def driver_list(text: str | None, m: Mechanism) -> list[str] | None:
     with flag_names(drivers="--drivers"):
         validate_drivers(m, drivers, balance=False)
     return drivers
+
+
+#: the argument names of the files a command writes, and their flags
+OUTPUT_FLAGS = {"output": "-o", "csv": "--csv", "draw": "--draw"}
+#: the argument names of the files a command reads
+INPUT_ARGUMENTS = ("file", "input", "file_a", "file_b")
+
+
+def check_outputs(args: argparse.Namespace) -> None:
+    """Refuse, before any work, an output that cannot be written as the contract says.
+
+    Each output a command was given (``-o``, ``--csv``, ``--draw``) is checked with
+    its links followed (:func:`mjstruct.output_files.output_target`): a loop of links
+    or a directory is bad input naming the flag, and so is an output that is the very
+    file the command reads (writing it would destroy the input).
+
+    >>> ns = argparse.Namespace(file="four-bar.json", output="four-bar.json")
+    >>> check_outputs(ns)
+    Traceback (most recent call last):
+    ...
+    mjstruct.errors.MechanismError: -o: four-bar.json is the input file (write elsewhere)
+    """
+    import os
+
+    from mjstruct.output_files import output_target, same_file
+
+    inputs = [
+        path
+        for path in (getattr(args, a, None) for a in INPUT_ARGUMENTS)
+        if isinstance(path, str) and path != "-"
+    ]
+    for attr, flag in OUTPUT_FLAGS.items():
+        out = getattr(args, attr, None)
+        if not isinstance(out, str) or out == "-":
+            continue
+        target = output_target(out, flag)
+        for path in inputs:
+            if same_file(path, target) or os.path.realpath(path) == os.fspath(target):
+                raise MechanismError(f"{flag}: {out} is the input file (write elsewhere)")

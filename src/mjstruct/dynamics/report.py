@@ -113,7 +113,10 @@ def write_csv(r: DynamicsResult, path: str | Path) -> None:
             for c, v in comp.items():
                 cols.append((f"{jid}:{link}:{c}", v))
     rows = zip(*(v for _, v in cols), strict=True)
-    with open(path, "w", newline="") as fh:
+    from mjstruct.output_files import replacing
+
+    # whole or not at all, a link followed, the umask's permissions
+    with replacing(path) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow([name for name, _ in cols])
         for row in rows:

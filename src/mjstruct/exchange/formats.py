@@ -21,8 +21,6 @@ toml, pyslvs, pyslvs-project, graphml, node-link)
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
 from mjstruct.errors import MechanismError
@@ -136,19 +134,19 @@ def render(m: Mechanism, fmt: str) -> str:
 
 
 def write_as(m: Mechanism, path: str | Path, fmt: str | None = None) -> str:
-    """Write ``m`` to ``path`` whole or not at all; returns the format used."""
+    """Write ``m`` to ``path`` whole or not at all; returns the format used.
+
+    A link is followed and a new file gets the umask's permissions
+    (:mod:`mjstruct.output_files`).
+    """
+    from mjstruct.output_files import replacing
+
     p = Path(path)
     chosen = format_for(p, fmt)
     text = render(m, chosen)  # any refusal happens before the file is touched
     try:
-        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.")
-    except OSError as exc:
-        raise MechanismError(f"{p}: cannot write ({exc.__class__.__name__})") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        with replacing(p) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(text)
-        os.replace(tmp, p)
     except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
         raise MechanismError(f"{p}: cannot write ({exc.__class__.__name__})") from None
     return chosen

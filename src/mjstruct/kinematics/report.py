@@ -17,11 +17,8 @@ kinematics of four-bar: 36 frames, drivers O1, speed 1
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import io
-import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,6 +27,7 @@ from typing import TextIO
 import numpy as np
 
 from mjstruct.kinematics.solver import KinematicsResult
+from mjstruct.output_files import replacing
 
 
 def render(r: KinematicsResult) -> str:
@@ -131,19 +129,15 @@ def write_csv_chunks(chunks: Iterable[KinematicsResult], path: str | Path) -> St
     any error (or interruption) the temporary file is removed and ``path`` is left as
     it was.  Returns what the report needs of the whole sweep.
     """
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     summary: StreamSummary | None = None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
-            for r in chunks:
-                _write_rows(out, r, header=summary is None)
-                summary = StreamSummary.first(r) if summary is None else summary.add(r)
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
+    # a link is followed, a new file gets the umask's permissions (output_files)
+    with (
+        replacing(path, suffix=".tmp") as tmp,
+        open(tmp, "w", encoding="utf-8", newline="") as out,
+    ):
+        for r in chunks:
+            _write_rows(out, r, header=summary is None)
+            summary = StreamSummary.first(r) if summary is None else summary.add(r)
     assert summary is not None
     return summary
 

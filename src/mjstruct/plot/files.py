@@ -23,6 +23,7 @@ import tempfile
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from mjstruct import output_files
 from mjstruct.errors import MechanismError
 
 #: suffixes a still figure can be written to
@@ -40,11 +41,9 @@ def check_output(path: str, suffixes: Iterable[str], name: str = "path") -> str:
         choices = ", ".join(sorted(allowed))
         what = repr(suffix) if suffix else "a file without suffix"
         raise MechanismError(f"{name}: no writer for {what} (use one of {choices})")
-    folder = Path(path).resolve().parent
+    folder = output_files.output_target(path, name).parent  # links followed
     if not folder.is_dir():
         raise MechanismError(f"{name}: cannot write {path} (no directory {folder})")
-    if Path(path).is_dir():
-        raise MechanismError(f"{name}: {path} is a directory")
     if not os.access(folder, os.W_OK):
         raise MechanismError(f"{name}: cannot write {path} (directory not writable)")
     # os.access says yes to root and to pseudo file systems (/proc, /sys): only creating
@@ -62,34 +61,14 @@ def check_output(path: str, suffixes: Iterable[str], name: str = "path") -> str:
 def write_atomically(path: str, write: Callable[[str], None], name: str = "path") -> None:
     """Call ``write(tmp)`` on a temporary file next to ``path``, then move it into place.
 
-    The temporary file keeps the suffix (writers choose their format by it); it is
-    removed if ``write`` fails, so ``path`` is either complete or untouched.
+    The temporary file keeps the suffix of ``path`` as given (writers choose their
+    format by it, also when ``path`` is a link to a file named otherwise); it is
+    removed if ``write`` fails, so ``path`` is either complete or untouched
+    (:func:`mjstruct.output_files.write_atomically`).
     """
-    target = Path(path).resolve()
-    tmp: str | None = None
-    try:
-        # inside the try: the directory may be unwritable (or gone) since the check
-        fd, tmp = tempfile.mkstemp(prefix=".mjstruct-", suffix=target.suffix, dir=target.parent)
-        os.close(fd)
-        write(tmp)
-        os.chmod(tmp, _mode(target))
-        os.replace(tmp, target)
-    except OSError as exc:
-        raise MechanismError(f"{name}: cannot write {path} ({_reason(exc)})") from None
-    finally:
-        if tmp is not None and os.path.exists(tmp):
-            os.unlink(tmp)
+    output_files.write_atomically(path, write, name)
 
 
 def _reason(exc: OSError) -> str:
     """The system's words for a failed write, without the temporary file's name."""
     return exc.strerror or type(exc).__name__
-
-
-def _mode(target: Path) -> int:
-    """Permissions of the file replaced, else the usual ones (mkstemp makes 0600)."""
-    if target.exists():
-        return target.stat().st_mode & 0o777
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
