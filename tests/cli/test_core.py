@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import itertools
 import json
+import math
+import re
 import subprocess
 import sys
 
@@ -49,12 +52,51 @@ def test_analyze_text_shows_both_formulas(capsys, examples):
     assert status == 0
     assert "K = 1 + (V + n3 + 2n4)/2 = 1 + (3 + 1 + 2·1)/2 = 4" in out
     assert "cycle rank of the link–joint graph = 4" in out
-    assert "F = n2 − 3 − V − (n4) = 8 − 3 − 3 − (1) = 1" in out
+    assert "F = n2 − 3 − V − n4 = 8 − 3 − 3 − 1 = 1" in out
+    assert "V = ν2 = 3;" not in out and "• MJ factor: V = ν2 = 3\n" in out
     assert "F = (n − 1) − 2K = 9 − 8 = 1" in out
     assert "S_L = 2(F + 3K) − V = 2(1 + 3·4) − 3 = 23" in out
     assert "S_L = Σ i·n_i = 2·8 + 3·1 + 4·1 = 23" in out
     assert "[L] = [4 4 5 5 5]" in out
     assert "Code* = [8110]/[3·0·0]" in out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["four-bar.json"],
+        ["watt.json"],
+        ["radial-engine-5.json"],
+        ["seed002-ex1-needle-drive.json"],
+        ["--code", "[4]/0", "--dof", "1"],
+        ["--code", "[51]/[1]"],
+    ],
+    ids=lambda a: " ".join(a),
+)
+def test_each_formula_written_once_and_its_numbers_add_up(capsys, examples, argv):
+    """No filler (``V = 0 = 0 = 0``, ``− (0)``): consecutive forms of an equality
+    differ, and every numeric form evaluates to the value the line states."""
+    if not argv[0].startswith("--"):
+        argv = [str(examples / argv[0])]
+    status, out, _ = run(capsys, "analyze", *argv)
+    assert status == 0
+    checked = 0
+    for line in out.splitlines():
+        if not line.startswith("• ") or ":" not in line:
+            continue
+        for formula in line.split(": ", 1)[1].split("; "):
+            forms = [f.strip() for f in formula.split(" = ")]
+            if len(forms) < 2:
+                continue
+            assert all(a != b for a, b in itertools.pairwise(forms)), line
+            assert "(0)" not in formula and "+ 0)/2" not in formula, line
+            value = forms[-1].split()[0]
+            for form in forms[1:-1]:
+                arithmetic = re.sub(r"(\d)\(", r"\1*(", form.replace("·", "*").replace("−", "-"))
+                if re.fullmatch(r"[\d\s()+*/-]+", arithmetic):
+                    assert eval(arithmetic) == float(value), (form, line)
+                    checked += 1
+    assert checked >= 6
 
 
 def test_nonplanar_loops_null(capsys, examples):
@@ -297,3 +339,32 @@ def test_library_parameters_become_flags_on_the_command_line(capsys):
     assert capsys.readouterr().err.startswith("mjstruct analyze: --code: ")
     assert main(["atlas", "--links", "30"]) == 2
     assert capsys.readouterr().err.startswith("mjstruct atlas: --links: ")
+
+
+def test_singular_text_speaks_degrees_within_a_turn_and_says_what_labels_mean(capsys, examples):
+    ms4 = str(examples / "fourbar-ms4.json")
+    status, out, _ = run(capsys, "singular", ms4, "--clearance", "0.01", "--json")
+    d = json.loads(out)
+    status, text, _ = run(capsys, "singular", ms4, "--clearance", "0.01")
+    assert status == 0
+    rows = [line.split() for line in text.splitlines() if line.startswith("  ") and "_" in line]
+    rows = [r for r in rows if r[0] in {"input_limit", "output_extreme", "change_point"}]
+    assert len(rows) == len(d["singular"]) == 3
+    # each position's q, from the JSON (radians, continued past 2π), within one turn
+    expected = sorted(round(math.degrees(p["q"]), 4) % 360.0 for p in d["singular"])
+    shown = [float(r[1]) for r in rows]
+    assert shown == sorted(shown) and all(0 <= q < 360 for q in shown)
+    assert shown == pytest.approx(expected, abs=5e-5)
+    assert all(re.fullmatch(r"-?\d+\.\d{4}", r[1]) for r in rows)  # 4 decimals
+    assert max(p["q"] for p in d["singular"]) > 2 * math.pi - 1e-9  # the JSON goes on
+    # the paper's labels said in words
+    assert "change point: 1 + P2 = P1 + P3 (system (4) of [Four-bar clearances]" in text
+    assert "four-bar formula (3), λ = 0.5, δ = 0.01" in text
+    assert "formula-3" not in text and "system (4): (4.2)" not in text
+    assert "output_extreme: the output reverses" in text
+
+
+def test_singular_text_of_a_range_across_zero(capsys, examples):
+    status, text, _ = run(capsys, "singular", str(examples / "triad-class-iii.json"))
+    assert status == 0
+    assert "input range: 346.2075 to 71.8053 deg (through 0)" in text
