@@ -111,9 +111,7 @@ def render(r: StructuralReport) -> str:
         beyond = [(k - 1, f"n{k + 2}", ni) for k, ni in enumerate(la) if k >= 2]
         bs, bn = _minus(beyond)
         n2 = la[0] if la else 0
-        parts.append(
-            f"F = n2 − 3 − V{bs} = {n2} − 3 − {a.V}{bn} = {_n(r.F_values['assortment'])}"
-        )
+        parts.append(f"F = n2 − 3 − V{bs} = {n2} − 3 − {a.V}{bn} = {_n(r.F_values['assortment'])}")
     parts.append(fl)
     if "grubler" in r.F_values:
         parts.append(
