@@ -359,7 +359,7 @@ def test_singular_text_speaks_degrees_within_a_turn_and_says_what_labels_mean(ca
     assert max(p["q"] for p in d["singular"]) > 2 * math.pi - 1e-9  # the JSON goes on
     # the paper's labels said in words
     assert "change point: 1 + P2 = P1 + P3 (system (4) of [Four-bar clearances]" in text
-    assert "four-bar formula (3), λ = 0.5, δ = 0.01" in text
+    assert "four-bar formula (3), lambda 0.5, delta 0.01" in text
     assert "formula-3" not in text and "system (4): (4.2)" not in text
     assert "output_extreme: the output reverses" in text
 

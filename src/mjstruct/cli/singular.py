@@ -117,7 +117,7 @@ def _q(p: SingularPosition, revolute: bool) -> str:
 
 def _zone_method(method: str, lam: float | None, delta: float | None) -> str:
     if method == "formula-3":
-        ld = "" if lam is None or delta is None else f", λ = {lam:.4g}, δ = {delta:.4g}"
+        ld = "" if lam is None or delta is None else f", lambda {lam:.4g}, delta {delta:.4g}"
         return f"four-bar formula (3){ld}"
     return "leading-order estimate" if method == "leading-order" else method
 
@@ -193,7 +193,7 @@ def render(r: SingularAnalysis) -> str:
         if any(z.method == "formula-3" for p in r.singular for z in p.zone or ()):
             lines.append(
                 "  four-bar formula (3) of [Four-bar clearances]: exact for a four-bar; "
-                "λ = shorter over longer link of the pair, δ = D over the longer link"
+                "lambda = shorter over longer link of the pair, delta = D over the longer link"
             )
         if any(z.method == "leading-order" for p in r.singular for z in p.zone or ()):
             lines.append(
