@@ -28,6 +28,7 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--lambda: must be >= 2, got {args.lam}")
     if (args.file is None) == (args.code is None):
         raise MechanismError("give either a mechanism FILE or --code CODE")
+    names: tuple[str | None, str | None] = (None, None)
     if args.code is not None:
         with flag_names(code="--code", dof="--dof", N="--drivers", lam="--lambda"):
             r = code_report(args.code, dof=args.dof, N=args.drivers, lam=args.lam)
@@ -35,12 +36,29 @@ def run(args: argparse.Namespace) -> int:
         if args.dof is not None or args.drivers is not None:
             raise MechanismError("--dof and --drivers go with --code; a file has its own")
         from mjstruct.io import read_mechanism
+        from mjstruct.synthesis.names import familiar_name, inversion_name
 
-        r = structural_report(
-            read_mechanism(args.file), lam=args.lam, with_loops=not args.no_loops
-        )
+        m = read_mechanism(args.file)
+        r = structural_report(m, lam=args.lam, with_loops=not args.no_loops)
+        names = (familiar_name(m), inversion_name(m))
     if args.json:
-        emit_json(r.to_dict())
+        out = r.to_dict()
+        out["inversion_name"] = names[1]
+        emit_json(out)
     else:
-        emit_text(render(r))
+        emit_text(_with_names(render(r), *names))
     return 0
+
+
+def _with_names(text: str, chain: str | None, inversion: str | None) -> str:
+    """The report with a bullet for the familiar names, after the last bullet."""
+    from mjstruct.synthesis.names import inversion_text
+
+    if chain is None:
+        return text
+    bullet = f"• familiar name of the chain: {chain}"
+    if inversion is not None:
+        bullet += f"; with this frame: {inversion_text(inversion)}"
+    lines = text.split("\n")
+    last = max(k for k, line in enumerate(lines) if line.startswith("• "))
+    return "\n".join([*lines[: last + 1], bullet, *lines[last + 1 :]])

@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         return _run_assur(args)
     if args.dof < 1:
         raise MechanismError(f"--dof: need F >= 1, got {args.dof}")
-    from mjstruct.synthesis.names import familiar_names
+    from mjstruct.synthesis.names import chain_inversions, familiar_names
 
     bar = ProgressBar.for_cli(f"atlas F={args.dof} n={args.links}", args.json)
     a = _run_atlas(args, bar)
@@ -72,6 +72,11 @@ def run(args: argparse.Namespace) -> int:
         d: dict[str, Any] = {"id": ids.get(c.canonical), "name": names.get(c.canonical)}
         d.update(c.to_dict())
         d["cell"] = [c.K, c.V]
+        # the six-bars' named inversions, each with its frame links (indices)
+        inversions = chain_inversions(c.mechanism()) if d["name"] else {}
+        d["inversions"] = [
+            {"name": k, "frames": sorted(int(x) for x in v)} for k, v in inversions.items()
+        ]
         chains.append(d)
     nonplanar = sum(not c.planar for c in a.chains)
     if args.json:
@@ -103,6 +108,11 @@ def run(args: argparse.Namespace) -> int:
             flag = "" if d["planar"] else "  non-planar"
             label = d["id"] or "-"
             lines.append(f"{label}  {d['LA']}/{d['MJA']}  {d['canonical']}{flag}  {d['joints']}")
+            if d["name"]:
+                lines.append(f"    {d['name']}")
+            for inv in d["inversions"]:
+                frames = ", ".join(map(str, inv["frames"]))
+                lines.append(f"    {inv['name']}: frame link {frames}")
     emit_text("\n".join(lines))
     return 0
 

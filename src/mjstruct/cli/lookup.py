@@ -19,11 +19,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
     from mjstruct.synthesis.catalog import lookup
+    from mjstruct.synthesis.names import inversion_name, inversion_text
 
-    r = lookup(read_mechanism(args.file))
+    m = read_mechanism(args.file)
+    r = lookup(m)
+    inversion = inversion_name(m)
     reason = _reason(r)
     if args.json:
         out: dict[str, Any] = {"found": r.found, "canonical": r.canonical, "F": r.F, "n": r.n}
+        out["inversion_name"] = inversion
         if r.found:
             rec = r.record
             out.update(
@@ -49,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
         + ("" if rec["planar"] else "  non-planar")
         + ("  fractionated" if rec["fractionated"] else "")
         + f"\ncanonical {rec['canonical']}"
+        + (f"\nwith this frame: {inversion_text(inversion)}" if inversion else "")
     )
     return 0
 

@@ -1,8 +1,15 @@
 """Familiar names of chains: the classic ones and the worked examples of
-[MJ structure 2020].
+[MJ structure 2020]; and of the six-bar mechanisms by their frame.
 
-A name belongs to a chain (no frame): it is keyed by the chain-level canonical code,
-so any drawing of a Watt six-bar is called "Watt six-bar".
+A chain name belongs to a chain (no frame): it is keyed by the chain-level canonical
+code, so any drawing of a Watt six-bar is called "Watt six-bar".  An inversion name
+belongs to a chain with its frame chosen (drivers and joint kinds do not count): the
+Watt chain gives Watt I (a binary frame) and Watt II (a ternary frame, two four-bars
+in series); the Stephenson chain gives Stephenson I (the frame a binary link joining
+both ternary links), Stephenson II (a binary link beside one ternary link) and
+Stephenson III (a ternary frame: a four-bar with a dyad from its coupler to the
+frame).  These are the names kinematics textbooks use; they are keyed by the
+canonical code with the frame coloured.
 
 Examples
 --------
@@ -10,13 +17,17 @@ Examples
 >>> m = Mechanism.build([("a", [0, 1]), ("b", [1, 2]), ("c", [2, 3]), ("d", [3, 0])])
 >>> familiar_name(m)
 'four-bar'
+>>> watt = [("a", [0, 1]), ("b", [1, 2]), ("c", [2, 3]), ("d", [3, 0]), ("e", [3, 4]),
+...         ("f", [4, 5]), ("g", [5, 0])]
+>>> [inversion_name(Mechanism.build(watt, frame=f)) for f in (0, 1)]
+['Watt II six-bar', 'Watt I six-bar']
 """
 
 from __future__ import annotations
 
 from functools import lru_cache
 
-from mjstruct.mechanism import Mechanism
+from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.isomorphism import canonical_code
 
 # chain name -> joints as link lists (the classic chains)
@@ -25,6 +36,24 @@ CLASSIC: dict[str, list[list[int]]] = {
     "five-bar": [[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]],
     "Watt six-bar": [[0, 1], [1, 2], [2, 3], [3, 0], [3, 4], [4, 5], [5, 0]],
     "Stephenson six-bar": [[0, 1], [0, 3], [1, 2], [2, 3], [1, 4], [4, 5], [5, 3]],
+}
+
+# inversion name -> (chain of CLASSIC, its frame link): the six-bar inversions
+INVERSIONS: dict[str, tuple[str, int]] = {
+    "Watt I six-bar": ("Watt six-bar", 1),  # binary frame
+    "Watt II six-bar": ("Watt six-bar", 0),  # ternary frame
+    "Stephenson I six-bar": ("Stephenson six-bar", 0),  # binary, beside both ternaries
+    "Stephenson II six-bar": ("Stephenson six-bar", 4),  # binary, beside one ternary
+    "Stephenson III six-bar": ("Stephenson six-bar", 1),  # ternary frame
+}
+
+# what each inversion's frame is, for the reports
+FRAMES: dict[str, str] = {
+    "Watt I six-bar": "a binary link",
+    "Watt II six-bar": "a ternary link",
+    "Stephenson I six-bar": "a binary link joining both ternary links",
+    "Stephenson II six-bar": "a binary link beside one ternary link",
+    "Stephenson III six-bar": "a ternary link",
 }
 
 # shipped example files whose chains are named after the worked examples of
@@ -57,3 +86,64 @@ def familiar_names() -> dict[str, str]:
 def familiar_name(m: Mechanism) -> str | None:
     """The familiar name of ``m``'s chain, or None."""
     return familiar_names().get(canonical_code(m, "chain"))
+
+
+def _frame_code(m: Mechanism) -> str:
+    """Canonical code of ``m``'s chain with its frame coloured (all joints revolute, no
+    drivers): what an inversion name depends on."""
+    plain = Mechanism.build([(j.id, j.links) for j in m.joints], frame=m.frame)
+    return canonical_code(plain, "mechanism")
+
+
+@lru_cache(maxsize=1)
+def inversion_names() -> dict[str, str]:
+    """Canonical code with the frame coloured (see :func:`inversion_name`) -> name."""
+    out = {}
+    for name, (chain, frame) in INVERSIONS.items():
+        joints = CLASSIC[chain]
+        m = Mechanism.build([(f"J{k}", js) for k, js in enumerate(joints)], frame=frame)
+        out[_frame_code(m)] = name
+    return out
+
+
+def inversion_name(m: Mechanism) -> str | None:
+    """The familiar name of ``m`` as a mechanism (its chain with the frame chosen):
+    Watt I/II and Stephenson I/II/III for the six-bars; None without a frame or a name.
+    Revolute and prismatic joints alike, whatever the drivers.
+    """
+    expect_mechanism(m)
+    if m.frame is None:
+        return None
+    return inversion_names().get(_frame_code(m))
+
+
+def chain_inversions(m: Mechanism) -> dict[str, list[str]]:
+    """For a named chain, each inversion name with the links that give it as the frame
+    (file order); empty for a chain with no named inversions.
+
+    >>> from mjstruct.mechanism import Mechanism
+    >>> steph = Mechanism.build([("a", [0, 1]), ("b", [0, 3]), ("c", [1, 2]), ("d", [2, 3]),
+    ...                          ("e", [1, 4]), ("f", [4, 5]), ("g", [5, 3])])
+    >>> chain_inversions(steph)
+    {'Stephenson I six-bar': ['0', '2'], 'Stephenson II six-bar': ['4', '5'], \
+'Stephenson III six-bar': ['1', '3']}
+    """
+    expect_mechanism(m)
+    chain = familiar_name(m)
+    if chain not in {c for c, _ in INVERSIONS.values()}:
+        return {}
+    out: dict[str, list[str]] = {}
+    for link in m.links:
+        name = inversion_name(Mechanism.build([(j.id, j.links) for j in m.joints], frame=link))
+        if name is not None:
+            out.setdefault(name, []).append(link)
+    return dict(sorted(out.items()))
+
+
+def inversion_text(name: str | None) -> str:
+    """An inversion name with what its frame is, for a text report ("" for None).
+
+    >>> inversion_text("Stephenson II six-bar")
+    'Stephenson II six-bar (frame: a binary link beside one ternary link)'
+    """
+    return "" if name is None else f"{name} (frame: {FRAMES[name]})"
