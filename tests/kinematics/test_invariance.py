@@ -35,7 +35,7 @@ def transformed(name: str, scale: float, offset: float) -> Mechanism:
 
 @cache
 def _base(name: str) -> KinematicsResult:
-    return kinematic_analysis(read_mechanism(example_path(name)), frames=FRAMES)
+    return kinematic_analysis(read_mechanism(example_path(name)), frames=FRAMES, checks="full")
 
 
 def _kinds(r: KinematicsResult) -> list[str]:
@@ -46,7 +46,9 @@ def _kinds(r: KinematicsResult) -> list[str]:
 def _compare(name: str, scale: float, offset: float) -> float:
     """Check frames, warnings and mobility; return the worst position error / size."""
     base = _base(name)
-    r = kinematic_analysis(transformed(name, scale, offset), frames=FRAMES, stroke=scale)
+    r = kinematic_analysis(
+        transformed(name, scale, offset), frames=FRAMES, stroke=scale, checks="full"
+    )
     assert np.array_equal(r.placed, base.placed) and np.array_equal(r.valid, base.valid)
     assert _kinds(r) == _kinds(base)
     for key in ("dof", "redundant_constraints", "near_singular_frames", "near_singular_kinds"):

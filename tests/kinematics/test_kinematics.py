@@ -165,7 +165,7 @@ def test_four_bar_closed_form_positions_velocities_accelerations():
 def test_grashof_crank_rocker_keeps_lengths_and_analogs(a, b, c, theta, mode):
     d = 1.0  # s + l <= p + q - 0.1: the crank turns fully, away from change points
     m = four_bar(a, b, c, d, theta, mode)
-    r = kinematic_analysis(m, frames=1000)
+    r = kinematic_analysis(m, frames=1000, checks="full")
     assert r.valid.all()
     assert r.checks["link_lengths"]["max_error"] < 1e-12
     chk = r.checks["analogs_vs_differences"]
@@ -222,7 +222,7 @@ def test_near_dead_centre_acceleration_follows_inverse_determinant(eps):
     m = slider_crank(L1, L2, math.radians(30))
     q = np.radians(30.0) + np.radians(np.arange(360.0))  # frame 60 is 90 degrees
     q[60] = math.pi / 2
-    r = kinematic_analysis(m, q=q)
+    r = kinematic_analysis(m, q=q, checks="full")
     assert r.valid.all()
     assert all(np.isfinite(v).all() for j in r.joints.values() for v in j.values())
     aB = r.joints["B"]["ax"][60]
@@ -365,7 +365,7 @@ def test_prismatic_driver_moves_the_crank_through_a_dyad():
 
 def test_two_drivers_five_bar():
     m = read_mechanism(example_path("kin-five-bar"))
-    r = kinematic_analysis(m, frames=72)
+    r = kinematic_analysis(m, frames=72, checks="full")
     assert r.q.shape == (72, 2)
     assert r.checks["jacobian"]["dof"] == 2 and r.checks["jacobian"]["rank"] == [10]
     assert r.checks["link_lengths"]["max_error"] < 1e-12
@@ -403,7 +403,7 @@ def _double_parallelogram(r3: float):
 
 
 def test_redundant_constraint_refines_mobility():
-    r = kinematic_analysis(_double_parallelogram(0.5), frames=90)
+    r = kinematic_analysis(_double_parallelogram(0.5), frames=90, checks="full")
     jac = r.checks["jacobian"]
     # 12 equations, 12 coordinates, but rank 11: one redundant constraint, DOF 1
     assert (jac["equations"], jac["coordinates"], jac["rank"]) == (12, 12, [11])
@@ -467,7 +467,7 @@ def test_closure_jump_detector():
 def test_the_value_checks_run_when_read_and_equal_the_direct_ones():
     from mjstruct.kinematics.checks import value_checks
 
-    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=360)
+    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=360, checks="full")
     # not computed before the checks are read; the Jacobian's (which word warnings) are
     assert r._on_demand is not None
     assert r.jacobian is not None

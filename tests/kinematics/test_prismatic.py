@@ -193,7 +193,7 @@ def test_scotch_yoke_against_closed_form(W):
     m = read_mechanism(example_path("scotch-yoke"))
     g = read_geometry(m)
     r_crank = abs(g.centres["A"] - g.centres["O"])
-    res = kinematic_analysis(m, frames=360, speed=W)
+    res = kinematic_analysis(m, frames=360, speed=W, checks="full")
     assert res.valid.all() and res.warnings == []
     q = res.q[:, 0]
     for jid in ("J", "G"):

@@ -54,7 +54,7 @@ def test_any_reference_configuration_moves_consistently(name, xy):
     assume(min(abs(a - b) for i, a in enumerate(pts) for b in pts[i + 1 :]) > 0.05)
     try:
         m, drivers = _random_mechanism(name, xy)
-        r0 = kinematic_analysis(m, drivers=drivers, frames=1)
+        r0 = kinematic_analysis(m, drivers=drivers, frames=1, checks="full")
     except MechanismError:
         assume(False)  # coincident centres: bad input, tested elsewhere
         return

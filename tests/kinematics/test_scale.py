@@ -58,22 +58,35 @@ def test_batched_determinant_matches_numpy():
 
 def test_near_singular_frames_found_without_the_dense_jacobian_everywhere():
     # the slider-crank near its dead centre: frames flagged from the plan's product
-    r = kinematic_analysis(read_mechanism(example_path("slider-crank")), frames=3600)
+    m = read_mechanism(example_path("slider-crank"))
+    r = kinematic_analysis(m, frames=3600, checks="full")
     jac = r.checks["jacobian"]
     assert jac["det_from_plan_error"] < 1e-12
     assert r.jacobian is not None and r.jacobian.J.shape[0] <= 41
     # every frame has a determinant; the extremes agree with the closed form of the
     # slider-crank (|det| = L2 |cos phi_rod|, extreme at the crank's dead centres)
     assert np.isfinite(r.jacobian.det).all()
+    # the default (O(frames)) check flags the same frames from the product alone
+    cheap = kinematic_analysis(m, frames=3600)
+    assert cheap.jacobian is None and cheap.checks["jacobian"]["full"] is False
+    for key in ("near_singular_frames", "near_singular_kinds", "equations", "coordinates"):
+        assert cheap.checks["jacobian"][key] == jac[key], key
+    assert cheap.warnings == r.warnings
 
 
 def test_no_checks_flag_gives_the_same_motion(tmp_path, capsys):
     path = str(example_path("four-bar"))
     assert cli_main(["kinematics", path, "--frames", "24", "--json", "--no-checks"]) == 0
     fast = json.loads(capsys.readouterr().out)
-    assert cli_main(["kinematics", path, "--frames", "24", "--json"]) == 0
+    assert cli_main(["kinematics", path, "--frames", "24", "--json", "--full-checks"]) == 0
     full = json.loads(capsys.readouterr().out)
     assert fast["checks"] == {} and full["checks"]["jacobian"]["rank"] == [8]
+    assert cli_main(["kinematics", path, "--frames", "24", "--json"]) == 0
+    default = json.loads(capsys.readouterr().out)
+    # the default's Jacobian entry has the full one's keys (what it did not compute null)
+    assert set(default["checks"]["jacobian"]) == set(full["checks"]["jacobian"])
+    jac = default["checks"]["jacobian"]
+    assert jac["rank"] == [] and not jac["full"]
     assert fast["joints"] == full["joints"] and fast["links"] == full["links"]
 
 
@@ -96,7 +109,7 @@ def test_shared_crank_plans_one_triangle_and_one_diagonal_per_four_bar():
     # each dyad's base A-O2_i runs A - crank - O1 - frame - O2_i: one triangle to find it
     assert model.plan.complexity() == {"general": 2 * k, "right": 0, "checks": 0, "unknowns": 0}
     assert [s.kind for s in model.plan.steps[:2]] == ["reference", "driver-R"]
-    r = kinematic_analysis(model, frames=90)
+    r = kinematic_analysis(model, frames=90, checks="full")
     assert r.valid.all() and r.checks["link_lengths"]["max_error"] < 1e-12
     assert r.checks["jacobian"]["det_from_plan_error"] < 1e-9
 
@@ -135,3 +148,34 @@ def test_every_decomposable_mechanism_plans_and_closes_at_its_reference(groups, 
     for j in m.joints:
         if j.kind == "R":
             assert abs(motion.centre(j.id)[0][0] - complex(*j.at)) < bound
+
+
+@pytest.mark.parametrize("name", ["fourbar-ms5", "class-iv-seed003", "slider-crank"])
+def test_a_table_read_row_by_row_equals_its_stacked_columns(name):
+    # rows are made one at a time when read, columns all at once: the same bits (at a
+    # speed below 1, where no overflow check reads the columns first)
+    m = read_mechanism(example_path(name))
+    by_row = kinematic_analysis(m, frames=90, speed=0.5, checks=False)
+    by_column = kinematic_analysis(m, frames=90, speed=0.5, checks=False)
+    for table in ("joints", "points", "links"):
+        rows, cols = getattr(by_row, table), getattr(by_column, table)
+        for key in cols.keys_of_rows() if len(cols) else ():
+            col = cols.column(key)
+            for k, ident in enumerate(cols):
+                assert rows[ident][key].tobytes() == np.ascontiguousarray(col[k]).tobytes()
+    frames = np.array([0, 45, 89])
+    fresh = kinematic_analysis(m, frames=90, speed=0.5, checks=False)
+    xy = by_column.joints.column("x") + 1j * by_column.joints.column("y")
+    assert np.array_equal(fresh.joints.values_at(frames), xy[:, frames])
+
+
+def test_the_model_of_a_mechanism_is_planned_once():
+    from mjstruct.kinematics.model import model_of
+
+    m = read_mechanism(example_path("zhivago"))
+    assert model_of(m) is model_of(m) is model_of(m, ["O"])
+    assert model_of(m, ["E"]) is not model_of(m)
+    a = kinematic_analysis(m, frames=12)
+    b = kinematic_analysis(m, frames=12)
+    assert a.model is b.model is model_of(m)
+    assert kinematic_analysis(m, drivers=["E"], frames=12).model is model_of(m, ["E"])

@@ -2,29 +2,36 @@
 
 Owns what the analysis verifies about its own numbers: link lengths between every
 pair of centres (and points) on one link over the valid frames, the analogs σ against
-five-point differences of the positions, and the constraint Jacobian's rank (mobility
-refinement, redundant constraints) and determinant with the drivers fixed (near
-singular frames flagged below :data:`~mjstruct.kinematics.tolerances.NEAR_SINGULAR`
-of its largest value).
+five-point differences of the positions, the closure equations' residuals, the
+near-singular frames (below :data:`~mjstruct.kinematics.tolerances.NEAR_SINGULAR` of
+the largest driver-fixed determinant) from the plan's group determinants — the
+default checks, O(frames) — and, when asked (``checks="full"``), the constraint
+Jacobian's rank (mobility refinement, redundant constraints) and determinant with the
+drivers fixed.
 
 Examples
 --------
 >>> from mjstruct.io import read_mechanism
 >>> from mjstruct.catalog_files import example_path
 >>> from mjstruct.kinematics.solver import kinematic_analysis
->>> r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=36)
->>> r.checks["jacobian"]["rank"], r.checks["link_lengths"]["max_error"] < 1e-12
-([8], True)
+>>> m = read_mechanism(example_path("four-bar"))
+>>> r = kinematic_analysis(m, frames=36)
+>>> r.checks["jacobian"]["full"], r.checks["link_lengths"]["max_error"] < 1e-12
+(False, True)
+>>> kinematic_analysis(m, frames=36, checks="full").checks["jacobian"]["rank"]
+[8]
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from collections.abc import Mapping
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
 
+from mjstruct.errors import MechanismError
 from mjstruct.kinematics.closure import closure_jacobian
 from mjstruct.kinematics.jacobian import check_jacobian, one_blas_thread
 from mjstruct.kinematics.model import Motion
@@ -99,16 +106,116 @@ def plan_determinant(motion: Motion) -> tuple[FloatArray, FloatArray]:
     return sign, logabs
 
 
-def run_checks(r: KinematicsResult, motion: Motion) -> None:
+#: what ``checks`` may ask for: True (the default: O(frames) checks), "full" (the
+#: constraint Jacobian's rank and determinant too) or False (none)
+Checks = bool | Literal["full"]
+
+
+def checks_level(checks: object) -> Checks:
+    """``checks`` checked: True, False or "full" (bad input otherwise)."""
+    if checks is True or checks is False or checks == "full":
+        return checks
+    raise MechanismError(f"checks: expected True, False or 'full', got {checks!r}")
+
+
+def run_checks(r: KinematicsResult, motion: Motion, full: bool = False) -> None:
     """Add the checks to ``r.checks`` (and their warnings to ``r.warnings``).
 
-    The constraint Jacobian's rank and its determinant with the drivers fixed (from
-    the plan's group determinants, the dense Jacobian on a few frames only) now, since
-    they word warnings; link lengths and analogs against differences
-    (:func:`value_checks`) when ``r.checks`` is first read.
+    Now, since they word warnings: the near-singular frames from the product of the
+    plan's group determinants (:func:`plan_checks`, O(frames)), or with ``full`` the
+    constraint Jacobian's rank and its determinant with the drivers fixed (the dense
+    Jacobian on a few frames, :func:`check_jacobian`); the closure equations'
+    residuals.  Link lengths and analogs against differences (:func:`value_checks`)
+    when ``r.checks`` is first read.
     """
-    _jacobian_checks(r, motion)
+    if full:
+        _jacobian_checks(r, motion)
+    else:
+        plan_checks(r, motion)
+    residual = closure_residual(r, motion)
+    if residual is not None:
+        r.checks["closure_residual"] = residual
     r.check_on_demand(lambda: value_checks(r))
+
+
+def closure_residual(r: KinematicsResult, motion: Motion) -> dict[str, Any] | None:
+    """The largest residual of the plan's closure equations over the valid frames.
+
+    Evaluated at the configuration the tables give (independent of the Newton
+    iteration's own error estimate), relative to the mechanism's size; None for a
+    plan without closure equations.
+    """
+    ev = motion.evaluation
+    if not ev.residuals:
+        return None
+    v = r.valid
+    worst = 0.0
+    for jet in ev.residuals:
+        x = np.abs(jet[0][v]) if not v.all() else np.abs(jet[0])
+        if x.size:
+            worst = max(worst, float(x.max()))
+    return {
+        "equations": len(ev.residuals),
+        "max_error": worst,
+        "relative": worst / r.geometry.scale,
+    }
+
+
+def plan_checks(r: KinematicsResult, motion: Motion) -> None:
+    """The Jacobian's near-singular frames from the plan's group determinants alone.
+
+    The driver-fixed constraint Jacobian's determinant is the product of the plan's
+    group determinants times one constant of the geometry (see
+    :func:`plan_determinant`), so the frames where it falls below
+    :data:`NEAR_SINGULAR` of its largest value are found from the product without
+    the constant, in O(frames) and without a dense matrix.  The constant, the rank
+    (an SVD at the dips) and the agreement of the product with the dense
+    determinant are the full check's (``checks="full"``); here their keys are null.
+    A system that is not square (redundant constraints) has no determinant: only
+    its singular frames (positions without analogs) are flagged.
+    """
+    m, v = r.mechanism, r.valid
+    nu = sum(2 * (len(j.links) - 1) if j.kind == "R" else 2 for j in m.joints)
+    nc = 3 * (len(m.links) - 1)
+    flagged = np.zeros(0, dtype=np.intp)
+    if nu + len(r.plan.drivers) == nc:
+        with np.errstate(all="ignore"):
+            sign, logf = plan_determinant(motion)
+        usable = v & np.isfinite(logf) & (sign != 0)
+        if usable.any():
+            top = float(logf[usable].max())
+            flagged = np.flatnonzero(usable & (logf < top + np.log(NEAR_SINGULAR)))
+    dead = r.placed & ~v
+    if dead.any():
+        flagged = np.union1d(flagged, np.flatnonzero(dead))
+    flagged = flagged.astype(int)
+    kinds = _kinds(r, flagged) if len(flagged) else []
+    r.checks["jacobian"] = {
+        "equations": nu,
+        "coordinates": nc,
+        "rank": [],
+        "rank_frames": 0,
+        "redundant_constraints": None,
+        "dof": None,
+        "min_abs_det": None,
+        "max_abs_det": None,
+        "det_from_plan_error": None,
+        "near_singular_frames": [int(i) for i in flagged],
+        "near_singular_kinds": kinds,
+        "full": False,
+    }
+    _near_singular_warning(r, flagged, kinds)
+
+
+def _near_singular_warning(
+    r: KinematicsResult, flagged: npt.NDArray[np.intp], kinds: list[str | None]
+) -> None:
+    if len(flagged):
+        r.warnings.append(
+            f"near-singular Jacobian (|det| < {NEAR_SINGULAR:g} of its maximum) at "
+            f"{len(flagged)} frame(s), first q = {r.q[flagged[0], 0]:.9g}"
+            + _kinds_text(r, flagged, kinds)
+        )
 
 
 def value_checks(r: KinematicsResult) -> dict[str, Any]:
@@ -249,13 +356,9 @@ def _jacobian_checks(r: KinematicsResult, motion: Motion) -> None:
         "det_from_plan_error": jc.factor_error,
         "near_singular_frames": [int(i) for i in flagged],
         "near_singular_kinds": kinds,
+        "full": True,
     }
-    if len(flagged):
-        r.warnings.append(
-            f"near-singular Jacobian (|det| < {NEAR_SINGULAR:g} of its maximum) at "
-            f"{len(flagged)} frame(s), first q = {r.q[flagged[0], 0]:.9g}"
-            + _kinds_text(r, flagged, kinds)
-        )
+    _near_singular_warning(r, flagged, kinds)
     if ranks and max(ranks) < jc.equations:
         r.warnings.append(
             f"constraint Jacobian rank {max(ranks)} < {jc.equations} equations: "
@@ -327,5 +430,5 @@ def _length_pairs(ids: list[str], ref: dict[str, complex]) -> list[tuple[str, st
     return [(x, i) for x in anchors for i in ids if i != x]
 
 
-def _table(r: KinematicsResult, ident: str) -> dict[str, FloatArray]:
+def _table(r: KinematicsResult, ident: str) -> Mapping[str, FloatArray]:
     return r.joints.get(ident) or r.points[ident]

@@ -41,6 +41,7 @@ if TYPE_CHECKING:
     from mjstruct.kinematics.planner import Plan
 
 FloatArray = npt.NDArray[np.float64]
+ComplexArray = npt.NDArray[np.complex128]
 
 
 @dataclass
@@ -68,6 +69,48 @@ class Evaluation:
         j = self.m.joint(joint)
         link = j.links[1] if j.kind == "P" else self.first[joint]
         return self.poses[link].point(self.geom.centres[joint])
+
+    def carrier(self, joint: str) -> str | None:
+        """The link whose pose carries a joint centre (None: a centre solved directly)."""
+        if joint in self.solved:
+            return None
+        j = self.m.joint(joint)
+        return j.links[1] if j.kind == "P" else self.first[joint]
+
+    def stacked(self, items: Sequence[tuple[str | None, complex, str]]) -> list[ComplexArray]:
+        """Jets of many points at once, each derivative stacked items × frames.
+
+        ``items``: (link, reference position, joint) — the point of ``link`` whose
+        reference position is given (as :meth:`Pose.point`), or, with link None, the
+        centre ``joint`` solved directly.  The points of one link are carried in one
+        broadcast (the same arithmetic per element as :meth:`Pose.point`).
+        """
+        n = len(items)
+        poses = self.poses
+        F = next(iter(poses.values())).r.shape[-1] if poses else 0
+        out = [np.empty((n, F), complex) for _ in range(self.order + 1)]
+        by_link: dict[str, list[int]] = {}
+        for i, (link, z, joint) in enumerate(items):
+            if link is None:
+                for k, x in enumerate(self.solved[joint][: self.order + 1]):
+                    out[k][i] = x
+            elif z == poses[link].zA:  # the anchor itself: its jet as it is
+                for k, x in enumerate(poses[link].A[: self.order + 1]):
+                    out[k][i] = x
+            else:
+                by_link.setdefault(link, []).append(i)
+        with np.errstate(invalid="ignore", over="ignore"):
+            for link, rows in by_link.items():
+                p = poses[link]
+                d = np.array([items[i][1] - p.zA for i in rows])
+                rd = p.r[None, :] * d[:, None]
+                idx = rows[0] if len(rows) == 1 else np.array(rows)
+                out[0][idx] = p.A[0] + rd
+                if self.order >= 1:
+                    out[1][idx] = p.A[1] + (1j * p.w[0]) * rd
+                if self.order >= 2:
+                    out[2][idx] = p.A[2] + (1j * p.w[1] - p.w[0] ** 2) * rd
+        return out
 
     def residual_matrix(self, k: int = 0) -> FloatArray:
         """Derivative ``k`` of the closure equations, shape (frames, equations).

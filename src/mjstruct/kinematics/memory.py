@@ -7,19 +7,21 @@ text, or the CSV table streamed in chunks), :func:`frames_that_fit` and
 ``MJSTRUCT_MAX_MEMORY_BYTES``) with the estimate and the largest frame count that fits.
 
 The estimate is linear in the frames, per *table item* (a joint, a point, a link or a
-closure unknown), plus, with the checks, the dense constraint Jacobians the checks
-build on a few frames (quadratic in the size, independent of the frames).  The
-coefficients were measured with ``tracemalloc`` (peak of the call, 1000 and 3000
-frames, slope and intercept) on the four-bar, class-IV, Zhivago examples and k
-four-bars sharing one crank (10 to 1000 links):
+closure unknown), plus, with the full checks (``checks="full"``), the dense constraint
+Jacobians they build on a few frames (quadratic in the size, independent of the
+frames).  The coefficients were measured with ``tracemalloc`` (peak of the call, 1000
+and 3000 frames, slope and intercept) on the four-bar, class-IV, Zhivago examples and
+k four-bars sharing one crank (10 to 1000 links):
 
-* result, checks off: 51-60 bytes per item and frame (:data:`RESULT_BYTES` 60);
-* result with checks, read: 53-81 (:data:`CHECKS_BYTES` adds 20; the checks go row by
-  row, only the closure's Jacobian over the frames grows with them);
-* JSON text (the result, its lists of floats and the text): 396-425
+* result, checks off: 40-51 bytes per item and frame (:data:`RESULT_BYTES` 60; the
+  tables are views of the evaluation's arrays, made when read);
+* result with the default checks, read: 50-60 (:data:`CHECKS_BYTES` adds 10; the
+  checks go row by row, only the closure's Jacobian over the frames grows with them);
+* JSON text (the result, its lists of floats and the text): 358-380
   (:data:`JSON_BYTES` 420);
-* the dense Jacobians: 5 to 26 matrices of Nu × 3Ns doubles, depending on how many
-  the checks keep within their budget (:func:`dense_bytes`).
+* the full checks' dense Jacobians: 5 to 26 matrices of Nu × 3Ns doubles, depending
+  on how many they keep within their budget (:func:`dense_bytes`; 360 MB measured at
+  1000 links, 431 MB estimated).
 
 A CSV table to a file is streamed: the sweep is solved :data:`CHUNK_FRAMES` frames at
 a time (with a short lead-in from the reference, :data:`LEAD_FRAMES`), so its peak
@@ -38,7 +40,7 @@ True
 >>> check_sweep_memory(model, 10**9, limit=2**31)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-mjstruct.errors.MechanismError: frames: 1000000000 frames need about 7.2e+11 bytes, over ... fit
+mjstruct.errors.MechanismError: frames: 1000000000 frames need about 6.3e+11 bytes, over ... fit
 """
 
 from __future__ import annotations
@@ -54,12 +56,12 @@ from mjstruct.kinematics.model import KinematicModel
 DEFAULT_MAX_MEMORY = 2**31
 #: environment variable overriding :data:`DEFAULT_MAX_MEMORY`
 MEMORY_ENV = "MJSTRUCT_MAX_MEMORY_BYTES"
-#: bytes per table item and frame of the result without checks (measured 51-60)
+#: bytes per table item and frame of the result without checks (measured 40-51)
 RESULT_BYTES = 60
-#: bytes per table item and frame the checks add (measured 0-23)
-CHECKS_BYTES = 20
+#: bytes per table item and frame the checks add (measured 0-10)
+CHECKS_BYTES = 10
 #: bytes per table item and frame of the JSON path, result and checks included
-#: (measured 396-425)
+#: (measured 358-380)
 JSON_BYTES = 420
 #: bytes the checks need whatever the size (measured 0.04-1.6 MB)
 CHECKS_FIXED = 2**18
@@ -69,6 +71,8 @@ CHUNK_FRAMES = 20_000
 LEAD_FRAMES = 720
 
 Output = Literal["result", "json", "csv"]
+#: the checks asked for (see :func:`~mjstruct.kinematics.solver.kinematic_analysis`)
+Checks = bool | Literal["full"]
 
 
 def table_items(model: KinematicModel) -> int:
@@ -91,17 +95,20 @@ def dense_bytes(model: KinematicModel) -> int:
     return matrix * (2 + 4 * kept)
 
 
-def _per_frame(model: KinematicModel, output: Output, checks: bool) -> int:
+def _per_frame(model: KinematicModel, output: Output, checks: Checks) -> int:
     per_item = JSON_BYTES if output == "json" else RESULT_BYTES + (CHECKS_BYTES if checks else 0)
     return per_item * table_items(model)
 
 
-def _fixed(model: KinematicModel, checks: bool) -> int:
-    return CHECKS_FIXED + dense_bytes(model) if checks else 0
+def _fixed(model: KinematicModel, checks: Checks) -> int:
+    """The checks' memory whatever the frames: the full check's dense Jacobians."""
+    if not checks:
+        return 0
+    return CHECKS_FIXED + (dense_bytes(model) if checks == "full" else 0)
 
 
 def sweep_bytes(
-    model: KinematicModel, frames: int, output: Output = "result", checks: bool = True
+    model: KinematicModel, frames: int, output: Output = "result", checks: Checks = True
 ) -> int:
     """Estimated peak memory (bytes) of an analysis of ``model`` over ``frames`` frames.
 
@@ -112,7 +119,8 @@ def sweep_bytes(
     output : ``"result"`` (the library's :class:`KinematicsResult`), ``"json"`` (that
         and the JSON text) or ``"csv"`` (the table streamed to a file in chunks of
         :data:`CHUNK_FRAMES`: bounded whatever the frame count).
-    checks : whether the checks run.
+    checks : the checks asked for (True: the default ones, "full": with the dense
+        Jacobians, False: none).
     """
     if output == "csv":
         frames = min(frames, CHUNK_FRAMES + LEAD_FRAMES + 8)
@@ -120,7 +128,7 @@ def sweep_bytes(
 
 
 def frames_that_fit(
-    model: KinematicModel, limit: int, output: Output = "result", checks: bool = True
+    model: KinematicModel, limit: int, output: Output = "result", checks: Checks = True
 ) -> int:
     """The largest frame count whose estimate is within ``limit`` bytes (0: none)."""
     room = limit - _fixed(model, checks)
@@ -158,7 +166,7 @@ def check_sweep_memory(
     frames: int,
     limit: int | None = None,
     output: Output = "result",
-    checks: bool = True,
+    checks: Checks = True,
 ) -> int:
     """Refuse a sweep whose estimate exceeds the limit; return the estimate (bytes).
 

@@ -330,3 +330,33 @@ class Motion:
         if ok.any():
             theta[ok] = np.unwrap(theta[ok])
         return [theta + self.model.geometry.char_angle[link], *pose.w[: self.order]]
+
+
+#: where :func:`model_of` keeps a mechanism's models (in the mechanism's own
+#: ``__dict__``, as ``functools.cached_property`` keeps its values: the models live and
+#: die with the mechanism, which is frozen)
+_MODELS_ATTR = "_kinematic_models"
+
+
+def model_of(mechanism: Mechanism, drivers: Iterable[str] | None = None) -> KinematicModel:
+    """:meth:`KinematicModel.build` once per mechanism and drivers (the plan cached).
+
+    A mechanism is immutable, and so is its model: a second analysis of the same
+    mechanism object with the same drivers reuses the model built by the first
+    (reading the geometry and planning cost as much as the sweep of a small
+    mechanism).  Errors are not cached: a mechanism that cannot be planned raises
+    again.
+
+    >>> from mjstruct.io import read_mechanism
+    >>> from mjstruct.catalog_files import example_path
+    >>> m = read_mechanism(example_path("four-bar"))
+    >>> model_of(m) is model_of(m, ["O1"]), model_of(m) is KinematicModel.build(m)
+    (True, False)
+    """
+    given = None if drivers is None else tuple(drivers)
+    key = tuple(mechanism.drivers) if given is None else given
+    cache = vars(mechanism).setdefault(_MODELS_ATTR, {})
+    model = cache.get(key)
+    if model is None:
+        model = cache[key] = KinematicModel.build(mechanism, given)
+    return model  # type: ignore[no-any-return]

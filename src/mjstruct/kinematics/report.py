@@ -65,7 +65,14 @@ def render(r: KinematicsResult) -> str:
             f"{a['max_error']:.3g}{'' if at is None else f' at q = {at:.6g}'} "
             f"(largest analog {a['max_analog']:.3g})"
         )
-    if "jacobian" in ch:
+    if "jacobian" in ch and not ch["jacobian"].get("full", True):
+        j = ch["jacobian"]
+        out.append(
+            f"check Jacobian: {j['equations']} equations × {j['coordinates']} coordinates, "
+            f"near-singular frames {j['near_singular_frames'] or 'none'} (from the plan's "
+            "group determinants; its rank and |det| with --full-checks)"
+        )
+    elif "jacobian" in ch:
         j = ch["jacobian"]
         out.append(
             f"check Jacobian: {j['equations']} equations × {j['coordinates']} coordinates, "

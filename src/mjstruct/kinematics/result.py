@@ -19,7 +19,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -29,15 +29,18 @@ import numpy.typing as npt
 from mjstruct import display
 from mjstruct.kinematics.branches import BranchEvent
 from mjstruct.kinematics.closure import Closure
+from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.jacobian import JacobianCheck
 from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.kinematics.planner import Plan
-from mjstruct.kinematics.triangles import Jet
 from mjstruct.mechanism import Mechanism
 
 FloatArray = npt.NDArray[np.float64]
+ComplexArray = npt.NDArray[np.complex128]
 BoolArray = npt.NDArray[np.bool_]
+#: an item's (or every item's stacked) value, first and second derivative
+Jets = tuple[npt.NDArray[Any], ...]
 
 
 @dataclass
@@ -46,7 +49,8 @@ class KinematicsResult:
 
     ``q`` (frames × drivers); ``valid`` frames that assemble; ``joints`` / ``points``:
     id -> {x, y, vx, vy, ax, ay, sx, sy, kx, ky} arrays (s: velocity analogs, k:
-    acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa};
+    acceleration analogs); ``links``: id -> {angle, omega, eps, sigma, kappa} (each a
+    :class:`Table`: stacked arrays, rows read as views);
     ``checks``: the checks by name (those that word no warning are computed when
     ``checks`` is first read, see :meth:`check_on_demand`).
     """
@@ -55,9 +59,9 @@ class KinematicsResult:
     q: FloatArray
     speed: float
     valid: BoolArray
-    joints: dict[str, dict[str, FloatArray]]
-    points: dict[str, dict[str, FloatArray]]
-    links: dict[str, dict[str, FloatArray]]
+    joints: Table
+    points: Table
+    links: Table
     events: list[BranchEvent]
     warnings: list[str]
     _checks: dict[str, Any]
@@ -205,6 +209,166 @@ class KinematicsResult:
         return names, data
 
 
+#: the keys of a joint's or point's row: stack, part, power of the speed
+POINT_KEYS: dict[str, tuple[int, str, int]] = {
+    "x": (0, "real", 0), "y": (0, "imag", 0),
+    "vx": (1, "real", 1), "vy": (1, "imag", 1),
+    "ax": (2, "real", 2), "ay": (2, "imag", 2),
+    "sx": (1, "real", 0), "sy": (1, "imag", 0),
+    "kx": (2, "real", 0), "ky": (2, "imag", 0),
+}  # fmt: skip
+#: the keys of a link's row: stack, part (none: real), power of the speed
+LINK_KEYS: dict[str, tuple[int, str, int]] = {
+    "angle": (0, "", 0),
+    "omega": (1, "", 1),
+    "eps": (2, "", 2),
+    "sigma": (1, "", 0),
+    "kappa": (2, "", 0),
+}
+
+
+class Table(Mapping[str, Mapping[str, FloatArray]]):
+    """Items by id (joints, points or links) -> their arrays over the frames.
+
+    Each item has a jet of three arrays over the frames: for joints and points the
+    complex position, σ and κ (``x`` is the real part of the first, ``sx`` of the
+    second…), for links the angle, σ and κ.  ``table[id]`` is that item's row, a
+    mapping of views built when read; velocities and accelerations are the analogs
+    times the speed W and W², computed when read (the same arithmetic as scaling each
+    array).  The jets themselves are made when first needed: one item's when its row
+    is read, every item's at once, stacked items × frames, when a whole
+    :meth:`column` is (the JSON object, the table, the checks), so a result whose
+    tables are never read does not pay for them.
+
+    >>> P = np.array([[1 + 2j, 3 + 4j]])
+    >>> t = Table.of_stacks(("B",), (P, 2 * P, 3 * P), POINT_KEYS, 2.0)
+    >>> t["B"]["y"].tolist(), t["B"]["vx"].tolist(), list(t["B"])[:4]
+    ([2.0, 4.0], [4.0, 12.0], ['x', 'y', 'vx', 'vy'])
+    >>> t.column("ax").tolist()
+    [[12.0, 36.0]]
+    """
+
+    __slots__ = ("_all", "_at", "_index", "_keys", "_one", "_rows", "_stacks", "ids", "speed")
+
+    def __init__(
+        self,
+        ids: tuple[str, ...],
+        keys: dict[str, tuple[int, str, int]],
+        speed: float,
+        one: Callable[[int], Jets],
+        every: Callable[[], Jets],
+        at: Callable[[npt.NDArray[np.intp]], npt.NDArray[Any]] | None = None,
+    ) -> None:
+        self.ids = ids
+        self._index = {x: k for k, x in enumerate(ids)}
+        self._keys = keys
+        self.speed = speed
+        self._one, self._all, self._at = one, every, at
+        self._rows: dict[int, Jets] = {}
+        self._stacks: Jets | None = None
+
+    @classmethod
+    def of_stacks(
+        cls,
+        ids: tuple[str, ...],
+        stacks: Jets,
+        keys: dict[str, tuple[int, str, int]],
+        speed: float,
+    ) -> Table:
+        """A table of jets already stacked (items × frames each)."""
+        return cls(ids, keys, speed, lambda i: tuple(a[i] for a in stacks), lambda: stacks)
+
+    def keys_of_rows(self) -> tuple[str, ...]:
+        """The keys every row has."""
+        return tuple(self._keys)
+
+    def _jets(self, i: int) -> Jets:
+        if self._stacks is not None:
+            return tuple(a[i] for a in self._stacks)
+        got = self._rows.get(i)
+        if got is None:
+            # frames near a singular position may carry infinite analogs (not valid,
+            # reported): their arithmetic must not warn
+            with np.errstate(all="ignore"):
+                got = self._rows[i] = self._one(i)
+        return got
+
+    def stacks(self) -> Jets:
+        """The three jets of every item, items × frames each (made once)."""
+        if self._stacks is None:
+            with np.errstate(all="ignore"):
+                self._stacks = self._all()
+            self._rows.clear()
+        return self._stacks
+
+    def _scaled(self, a: npt.NDArray[Any], key: str) -> FloatArray:
+        _, part, power = self._keys[key]
+        if part:
+            a = getattr(a, part)
+        if power and self.speed != 1.0:
+            with np.errstate(all="ignore"):
+                a = a * (self.speed if power == 1 else self.speed * self.speed)
+        return a
+
+    def column(self, key: str) -> FloatArray:
+        """``key`` of every item, items × frames (in :attr:`ids` order)."""
+        return self._scaled(self.stacks()[self._keys[key][0]], key)
+
+    def value(self, ident: str, key: str) -> FloatArray:
+        """``key`` of one item over the frames (``table[ident][key]``)."""
+        return self._scaled(self._jets(self._index[ident])[self._keys[key][0]], key)
+
+    def values_at(self, frames: npt.NDArray[np.intp]) -> npt.NDArray[Any]:
+        """Every item's value (first jet: complex position, or angle) at a few frames,
+        items × frames, without making the whole jets when they are not made yet."""
+        if self._stacks is None and self._at is not None:
+            with np.errstate(all="ignore"):
+                return self._at(frames)
+        return self.stacks()[0][:, frames]
+
+    def __getitem__(self, ident: str) -> Mapping[str, FloatArray]:
+        if ident not in self._index:
+            raise KeyError(ident)
+        return _Row(self, ident)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.ids)
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    def __contains__(self, ident: object) -> bool:
+        return ident in self._index
+
+    def frames_from(self, n: int) -> Table:
+        """The same table from frame ``n`` on (views, no copy)."""
+        return Table(
+            self.ids,
+            self._keys,
+            self.speed,
+            lambda i: tuple(a[n:] for a in self._jets(i)),
+            lambda: tuple(a[:, n:] for a in self.stacks()),
+        )
+
+
+class _Row(Mapping[str, FloatArray]):
+    """One item's arrays over the frames, by key (read from its table)."""
+
+    __slots__ = ("_ident", "_table")
+
+    def __init__(self, table: Table, ident: str) -> None:
+        self._table, self._ident = table, ident
+
+    def __getitem__(self, key: str) -> FloatArray:
+        return self._table.value(self._ident, key)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._table._keys)
+
+    def __len__(self) -> int:
+        return len(self._table._keys)
+
+
 def unwrap_rows(p: FloatArray) -> FloatArray:
     """``np.unwrap(p, axis=1)`` bit for bit, the modulo taken only at the jumps.
 
@@ -259,13 +423,17 @@ _POSITIONS = frozenset({"x", "y", "angle"})
 def collect(motion: Motion, speed: float) -> KinematicsResult:
     """The result's tables from a solved motion: positions, analogs, velocities and
     accelerations at constant driver speed ``speed`` (frames with a non-finite value
-    are not valid)."""
+    are not valid).
+
+    The tables are stacked arrays (items × frames, one per jet of the joints, of the
+    points, of the links' angles and rates); a row is a view, and the velocities and
+    accelerations are scaled from the analogs when read (:class:`Table`).
+    """
     km, ev, q = motion.model, motion.evaluation, motion.q
     m, geom = km.mechanism, km.geometry
     if motion.order < 2:
         raise ValueError("collect: the motion must carry second derivatives (order 2)")
     W = float(speed)
-    W2 = W * W
     # every centre and point is a function of the link poses, whose finiteness the
     # motion's ``valid`` already holds; at unit speed velocities are the analogs
     valid = motion.valid.copy()
@@ -288,49 +456,15 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
         # position: nothing moves there)
         partial = ~pos_ok if (~pos_ok).any() else None
 
-    def scaled(a: FloatArray, k: float) -> FloatArray:
-        return a if k == 1.0 else a * k
-
-    def pack(X: Jet) -> dict[str, FloatArray]:
-        sx, sy, kx, ky = X[1].real, X[1].imag, X[2].real, X[2].imag
-        return {
-            "x": X[0].real, "y": X[0].imag,
-            "vx": scaled(sx, W), "vy": scaled(sy, W),
-            "ax": scaled(kx, W2), "ay": scaled(ky, W2),
-            "sx": sx, "sy": sy, "kx": kx, "ky": ky,
-        }  # fmt: skip
-
-    joints = {j.id: pack(ev.centre(j.id)) for j in m.joints}
-    points = {pid: pack(ev.poses[link].point(z)) for pid, (link, z) in geom.points.items()}
-    links: dict[str, dict[str, FloatArray]] = {}
-    moving = {x: i for i, x in enumerate(x for x in m.links if x != m.frame)}
-    # the angles of every moving link at once (one unwrap over the rows: the same
-    # values as row by row); a row with gaps is unwrapped over its finite frames
-    angles = np.angle(np.stack([ev.poses[x].r for x in moving])) if moving else np.zeros((0, 0))
-    if valid.all():
-        # every rotation is finite: every row unwraps whole, without a masked copy
-        whole = np.ones(len(moving), dtype=bool)
-        angles = unwrap_rows(angles) if moving else angles
-    else:
-        whole = np.asarray(np.isfinite(angles).all(axis=1), dtype=bool)
-        if whole.any():
-            angles[whole] = unwrap_rows(angles[whole])
-    for link in m.links:
-        p = ev.poses[link]
-        if link not in moving:
-            theta = np.zeros(q.shape[0])
-        else:
-            theta = angles[moving[link]]
-            ok = np.isfinite(theta)
-            if not whole[moving[link]] and ok.any():
-                theta[ok] = unwrap_rows(theta[ok][None, :])[0]
-        links[link] = {
-            "angle": theta + geom.char_angle[link],
-            "omega": scaled(p.w[0], W),
-            "eps": scaled(p.w[1], W2),
-            "sigma": p.w[0],
-            "kappa": p.w[1],
-        }
+    joint_ids = tuple(j.id for j in m.joints)
+    items: list[tuple[str | None, complex, str]] = [
+        (ev.carrier(j), geom.centres[j], j) for j in joint_ids
+    ]
+    nj = len(items)
+    items += [(link, z, pid) for pid, (link, z) in geom.points.items()]
+    joints = _point_table(ev, joint_ids, items[:nj], W)
+    points = _point_table(ev, tuple(geom.points), items[nj:], W)
+    links = _link_table(ev, tuple(m.links), m.frame, geom.char_angle, bool(valid.all()), W)
     return KinematicsResult(
         km,
         q,
@@ -346,3 +480,87 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
         assembled=assembled,
         partial=partial,
     )
+
+
+def _point_table(
+    ev: Evaluation, ids: tuple[str, ...], items: list[tuple[str | None, complex, str]], W: float
+) -> Table:
+    """Joints or points: each one's jet from the pose that carries it (or as solved)."""
+
+    def one(i: int) -> Jets:
+        link, z, joint = items[i]
+        jet = ev.solved[joint] if link is None else ev.poses[link].point(z)
+        return tuple(jet[:3])
+
+    def every() -> Jets:
+        return tuple(ev.stacked(items))
+
+    def at(frames: npt.NDArray[np.intp]) -> npt.NDArray[Any]:
+        # the first jet of Pose.point on those frames only (the same arithmetic)
+        out = np.empty((len(items), frames.size), complex)
+        for i, (link, z, joint) in enumerate(items):
+            if link is None:
+                out[i] = ev.solved[joint][0][frames]
+                continue
+            p = ev.poses[link]
+            out[i] = p.A[0][frames] if z == p.zA else p.A[0][frames] + p.r[frames] * (z - p.zA)
+        return out
+
+    return Table(ids, POINT_KEYS, W, one, every, at)
+
+
+def _link_table(
+    ev: Evaluation,
+    ids: tuple[str, ...],
+    frame: str | None,
+    char_angle: Mapping[str, float],
+    all_valid: bool,
+    W: float,
+) -> Table:
+    """Links: the angle (unwrapped over the frames, from the reference's characteristic
+    angle), σ and κ of each from its pose."""
+    poses = ev.poses
+
+    def angle_of(x: str) -> FloatArray:
+        if x == frame:
+            return np.zeros(poses[x].r.shape[-1]) + char_angle[x]
+        theta = np.angle(poses[x].r)[None, :]
+        if all_valid or np.isfinite(theta).all():
+            theta = unwrap_rows(theta)
+        else:
+            ok = np.isfinite(theta[0])
+            if ok.any():
+                theta[0, ok] = unwrap_rows(theta[:, ok])[0]
+        out: FloatArray = theta[0] + char_angle[x]
+        return out
+
+    def one(i: int) -> Jets:
+        x = ids[i]
+        return angle_of(x), poses[x].w[0], poses[x].w[1]
+
+    def every() -> Jets:
+        F = poses[ids[0]].r.shape[-1]
+        angle = np.zeros((len(ids), F))
+        rows = [k for k, x in enumerate(ids) if x != frame]
+        if rows:
+            # the angles of every moving link at once (one unwrap over the rows: the
+            # same values as row by row); a row with gaps unwraps over its finite frames
+            angles = np.angle(np.stack([poses[ids[k]].r for k in rows]))
+            if all_valid:
+                angles = unwrap_rows(angles)
+            else:
+                whole = np.isfinite(angles).all(axis=1)
+                if whole.any():
+                    angles[whole] = unwrap_rows(angles[whole])
+                for k in np.flatnonzero(~whole):
+                    theta = angles[k]
+                    ok = np.isfinite(theta)
+                    if ok.any():
+                        theta[ok] = unwrap_rows(theta[ok][None, :])[0]
+            angle[rows] = angles
+        angle += np.array([char_angle[x] for x in ids])[:, None]
+        sigma = np.stack([poses[x].w[0] for x in ids])
+        kappa = np.stack([poses[x].w[1] for x in ids])
+        return angle, sigma, kappa
+
+    return Table(ids, LINK_KEYS, W, one, every)

@@ -28,12 +28,12 @@ import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.branches import fill_change_frames
-from mjstruct.kinematics.checks import run_checks
+from mjstruct.kinematics.checks import Checks, checks_level, run_checks
 from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.jacobian import poses_at
 from mjstruct.kinematics.memory import CHUNK_FRAMES, LEAD_FRAMES, check_sweep_memory
-from mjstruct.kinematics.model import KinematicModel, Motion
+from mjstruct.kinematics.model import KinematicModel, Motion, model_of
 from mjstruct.kinematics.planner import Plan
 from mjstruct.kinematics.result import KinematicsResult, collect
 from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR
@@ -54,7 +54,7 @@ def kinematic_analysis(
     stroke: float = 1.0,
     decomposition: Decomposition | None = None,
     tol: float = CLOSURE_TOL,
-    checks: bool = True,
+    checks: Checks = True,
     max_memory: int | None = None,
 ) -> KinematicsResult:
     """Positions, analogs, velocities and accelerations over a driver sweep.
@@ -71,7 +71,12 @@ def kinematic_analysis(
     stroke : the sweep of a prismatic driver.
     decomposition : an Assur decomposition to plan on (only with a mechanism).
     tol : closure tolerance (relative to the mechanism's size) for iterated groups.
-    checks : run the checks (link lengths, analogs vs differences, Jacobian).
+    checks : True (default): the checks that cost O(frames) — near-singular frames from
+        the plan's group determinants, the closure equations' residuals, and, when
+        ``result.checks`` is read, link lengths and analogs against differences;
+        ``"full"``: also the constraint Jacobian's rank and determinant (dense
+        matrices on a few frames, :func:`~mjstruct.kinematics.jacobian.check_jacobian`);
+        False: none.
     max_memory : refuse sweeps whose estimated memory exceeds this many bytes
         (default: ``MJSTRUCT_MAX_MEMORY_BYTES`` or 2 GiB; see
         :mod:`mjstruct.kinematics.memory`).
@@ -84,12 +89,15 @@ def kinematic_analysis(
     speed = expect_number(speed, "speed", finite=False)
     stroke = expect_number(stroke, "stroke", finite=False)
     tol = expect_number(tol, "tol", finite=False)
+    checks = checks_level(checks)
     if isinstance(model, KinematicModel):
         if drivers is not None or decomposition is not None:
             raise MechanismError(
                 "drivers: give drivers and decomposition when building the model, not here"
             )
         km = model
+    elif decomposition is None:
+        km = model_of(model, drivers)  # planned once per mechanism and drivers
     else:
         km = KinematicModel.build(model, drivers, decomposition)
     if not np.isfinite(speed) or speed == 0:
@@ -110,7 +118,7 @@ def kinematic_analysis(
         result.warnings += _open_cycle(result, km)
     if checks:
         with np.errstate(all="ignore"):
-            run_checks(result, motion)
+            run_checks(result, motion, full=checks == "full")
     return result
 
 
@@ -121,9 +129,7 @@ def _open_cycle(r: KinematicsResult, km: KinematicModel) -> list[str]:
     F = r.q.shape[0]
     if F < 8 or any(k != "R" for k in kinds) or not r.placed[[0, F - 2, F - 1]].all():
         return []
-    xs = np.array(
-        [[v["x"][i] + 1j * v["y"][i] for v in r.joints.values()] for i in (0, F - 2, F - 1)]
-    )
+    xs = r.joints.values_at(np.array([0, F - 2, F - 1])).T
     # the configuration one step past the last frame (q_ref + one turn), extrapolated;
     # its error is far below one step's motion, another circuit is a finite distance away
     pred = 2 * xs[2] - xs[1]
@@ -190,7 +196,7 @@ def sweep_chunks(
     speed: float = 1.0,
     stroke: float = 1.0,
     tol: float = CLOSURE_TOL,
-    checks: bool = True,
+    checks: Checks = True,
     chunk: int = CHUNK_FRAMES,
     max_memory: int | None = None,
 ) -> Iterator[KinematicsResult]:
@@ -213,6 +219,7 @@ def sweep_chunks(
         raise MechanismError(f"frames: must be >= 1, got {frames}")
     if chunk < 1:
         raise MechanismError(f"chunk: must be >= 1, got {chunk}")
+    checks = checks_level(checks)
     if not np.isfinite(speed) or speed == 0:
         raise MechanismError(f"speed: must be a finite nonzero number, got {speed}")
     _check_stroke(stroke)
@@ -236,23 +243,20 @@ def sweep_chunks(
         result.warnings = _warnings(result, motion, offset=a)
         if checks:
             with np.errstate(all="ignore"):
-                run_checks(result, motion)
+                run_checks(result, motion, full=checks == "full")
         yield result
 
 
 def _tail(r: KinematicsResult, n: int) -> KinematicsResult:
     """``r`` from its frame ``n`` on (views of its tables, no copy)."""
 
-    def cut(table: dict[str, dict[str, FloatArray]]) -> dict[str, dict[str, FloatArray]]:
-        return {i: {k: a[n:] for k, a in v.items()} for i, v in table.items()}
-
     return dataclasses.replace(
         r,
         q=r.q[n:],
         valid=r.valid[n:],
-        joints=cut(r.joints),
-        points=cut(r.points),
-        links=cut(r.links),
+        joints=r.joints.frames_from(n),
+        points=r.points.frames_from(n),
+        links=r.links.frames_from(n),
         events=[],
         closure=None if r.closure is None else _tail_closure(r.closure, n),
         assembled=None if r.assembled is None else r.assembled[n:],
@@ -303,13 +307,13 @@ def _check_overflow(r: KinematicsResult) -> None:
         # larger in size, so a finite analog has a finite rate
         return
     v = r.valid
-    for table in (r.joints, r.points):
-        for values in table.values():
-            for rate, analog in (("vx", "sx"), ("vy", "sy"), ("ax", "kx"), ("ay", "ky")):
-                _overflow(values[rate][v], values[analog][v], r.speed)
-    for values in r.links.values():
-        _overflow(values["omega"][v], values["sigma"][v], r.speed)
-        _overflow(values["eps"][v], values["kappa"][v], r.speed)
+    pairs = (("vx", "sx"), ("vy", "sy"), ("ax", "kx"), ("ay", "ky"))
+    for table, keys in ((r.joints, pairs), (r.points, pairs), (r.links, _LINK_RATES)):
+        for rate, analog in keys:
+            _overflow(table.column(rate)[:, v], table.column(analog)[:, v], r.speed)
+
+
+_LINK_RATES = (("omega", "sigma"), ("eps", "kappa"))
 
 
 def _overflow(rate: FloatArray, analog: FloatArray, speed: float) -> None:
