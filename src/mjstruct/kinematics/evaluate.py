@@ -94,6 +94,10 @@ class Evaluation:
             if link is None:
                 for k, x in enumerate(self.solved[joint][: self.order + 1]):
                     out[k][i] = x
+            elif isinstance(z, np.ndarray) or isinstance(poses[link].zA, np.ndarray):
+                # per-frame geometry (one reference per frame): the point as it is
+                for k, x in enumerate(poses[link].point(z)[: self.order + 1]):
+                    out[k][i] = x
             elif z == poses[link].zA:  # the anchor itself: its jet as it is
                 for k, x in enumerate(poses[link].A[: self.order + 1]):
                     out[k][i] = x
