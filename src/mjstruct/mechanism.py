@@ -252,6 +252,8 @@ def validate(m: Mechanism) -> None:
             raise MechanismError(
                 f"{where}.type: unknown joint type {j.kind!r} (expected one of R, P)"
             )
+        _expect_pair(j.at, f"{where}.at")
+        _expect_pair(j.axis, f"{where}.axis")
         used.update(j.links)
     idle = [x for x in m.links if x not in used]
     if idle:
@@ -265,6 +267,7 @@ def validate(m: Mechanism) -> None:
             raise MechanismError(f"points: point {p.id!r} is on unknown link {p.link!r}")
         if p.id in point_ids:
             raise MechanismError(f"points[{k}].id: point id {p.id!r} is used twice")
+        _expect_pair(p.at, f"points[{k}].at", optional=False)
         if p.id in seen:  # outputs key joints and points by id together
             raise MechanismError(f"points[{k}].id: {p.id!r} is already a joint id")
         point_ids.add(p.id)
@@ -274,6 +277,37 @@ def validate(m: Mechanism) -> None:
         raise MechanismError(
             f"joints: the chain is disconnected (links {', '.join(smallest)} form a separate part)"
         )
+
+
+def _expect_pair(value: object, where: str, optional: bool = True) -> None:
+    """``value`` is two finite real numbers (or None when ``optional``): every reader
+    (files, pyslvs, graphs, code) gets coordinates a double holds, never inf or nan.
+
+    >>> _expect_pair((1.0, float("inf")), "joints[0].at")
+    Traceback (most recent call last):
+    ...
+    mjstruct.errors.MechanismError: joints[0].at: expected [x, y] with two finite numbers, \
+got (1.0, inf)
+    """
+    import math
+    import numbers
+
+    if value is None and optional:
+        return
+    ok = isinstance(value, (tuple, list)) and len(value) == 2
+    if ok:
+        for v in value:  # type: ignore[union-attr]
+            if isinstance(v, bool) or not isinstance(v, numbers.Real):
+                ok = False
+            else:
+                try:
+                    ok = ok and math.isfinite(float(v))
+                except OverflowError:  # an integer beyond a double
+                    ok = False
+    if not ok:
+        shown = repr(value)
+        shown = shown if len(shown) <= 60 else shown[:57] + "..."
+        raise MechanismError(f"{where}: expected [x, y] with two finite numbers, got {shown}")
 
 
 def checked_driver_ids(m: Mechanism, drivers: Iterable[str] | None = None) -> tuple[str, ...]:

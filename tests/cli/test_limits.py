@@ -172,3 +172,20 @@ def test_cells_at_the_limit_and_beyond_with_large(capsys: pytest.CaptureFixture[
     assert sum(len(c["MJA"]) for c in json.loads(out)["cells"]) == COUNT_AT_MAX
     status, out, _ = _cli(["cells", "--kmax", str(MAX_KMAX + 1), "--large", "--json"], capsys)
     assert status == 0 and json.loads(out)["kmax"] == MAX_KMAX + 1
+
+
+@pytest.mark.parametrize("number", ["1e400", "1" * 5000])
+def test_convert_refuses_a_pyslvs_coordinate_beyond_a_double(
+    number: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    src = tmp_path / "big.pmks"
+    src.write_text(
+        f"M[J[R, P[{number}, 0], L[ground, a]], J[R, P[1, 0], L[a, b]],"
+        " J[R, P[2, 1], L[b, c]], J[R, P[3, 0], L[c, ground]]]"
+    )
+    out = tmp_path / "out.json"
+    status, stdout, err = _cli(["convert", str(src), "-o", str(out)], capsys)
+    assert (status, stdout) == (2, "")
+    assert err.startswith(f"mjstruct convert: {src}: line 1 column 10: the x coordinate ")
+    assert err.count("\n") == 1 and "beyond a double" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.pmks"]

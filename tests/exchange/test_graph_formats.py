@@ -93,3 +93,11 @@ def test_bad_graphs_give_one_line_errors():
         mechanism_from_node_link({"nodes": []})
     with pytest.raises(MechanismError, match="simple undirected"):
         mechanism_from_graph(nx.MultiGraph())
+
+
+@pytest.mark.parametrize("value", ["1e400", "-inf", "nan"])
+def test_coordinates_a_double_cannot_hold_are_bad_input_naming_the_joint(value):
+    g = mechanism_to_graph(read_mechanism(EXAMPLES / "four-bar.json"))
+    g.nodes["joint:B"]["y"] = value
+    with pytest.raises(MechanismError, match=r"^joints\[2\]\.at: expected \[x, y\] with two finite"):
+        mechanism_from_graphml("\n".join(nx.generate_graphml(g)))

@@ -172,6 +172,14 @@ def test_kinematics_accepts_an_imported_mechanism():
         ("M[J[R, P[0, 0], L[a, b]], J[R, P[1, 1], L[c, d]]]", "disconnected"),
         ("M[J[R, P[0, 0], L[a, a]]]", "appears twice"),
         ("M[J[R, P[0, $], L[a, b]]]", r"unexpected character '\$'"),
+        # numbers a double cannot hold: bad input at their place, never inf in a file
+        ("M[J[R, P[1e400, 0], L[a, b]]]", "column 10: the x coordinate 1e400 is beyond a double"),
+        (
+            "M[J[R, P[0, " + "9" * 5000 + "], L[a, b]]]",
+            r"column 13: the y coordinate 999999999999…\(5000 characters\) is beyond a double",
+        ),
+        ("M[J[P, A[-1e999], P[0, 0], L[a, b]]]", "the slot angle in degrees -1e999 is beyond"),
+        ("M[J[R, color[(1e309, 0, 0)], P[0, 0], L[a, b]]]", "a colour component 1e309 is beyond"),
     ],
 )
 def test_bad_expressions_give_one_line_errors(text, message):

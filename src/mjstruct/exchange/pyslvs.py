@@ -145,8 +145,16 @@ class _Reader:
 
     def number(self, what: str) -> float:
         if self.k < len(self.tokens) and self.tokens[self.k].kind == "number":
+            t = self.tokens[self.k]
+            value = float(t.text)  # a long digit string reads as a float (inf if too large)
+            if not math.isfinite(value):
+                shown = t.text if len(t.text) <= 24 else f"{t.text[:12]}…({len(t.text)} characters)"
+                raise MechanismError(
+                    f"{self.source}: line {t.line} column {t.column}: {what} {shown} is beyond "
+                    "a double (magnitude at most 1.8e308)"
+                )
             self.k += 1
-            return float(self.tokens[self.k - 1].text)
+            return value
         raise self._fail(what)
 
     def name(self, what: str) -> str:
