@@ -99,5 +99,6 @@ def test_bad_graphs_give_one_line_errors():
 def test_coordinates_a_double_cannot_hold_are_bad_input_naming_the_joint(value):
     g = mechanism_to_graph(read_mechanism(EXAMPLES / "four-bar.json"))
     g.nodes["joint:B"]["y"] = value
-    with pytest.raises(MechanismError, match=r"^joints\[2\]\.at: expected \[x, y\] with two finite"):
+    message = r"^joints\[2\]\.at: expected \[x, y\] with two finite"
+    with pytest.raises(MechanismError, match=message):
         mechanism_from_graphml("\n".join(nx.generate_graphml(g)))

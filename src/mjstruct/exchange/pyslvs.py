@@ -148,7 +148,9 @@ class _Reader:
             t = self.tokens[self.k]
             value = float(t.text)  # a long digit string reads as a float (inf if too large)
             if not math.isfinite(value):
-                shown = t.text if len(t.text) <= 24 else f"{t.text[:12]}…({len(t.text)} characters)"
+                shown = t.text
+                if len(shown) > 24:
+                    shown = f"{shown[:12]}…({len(shown)} characters)"
                 raise MechanismError(
                     f"{self.source}: line {t.line} column {t.column}: {what} {shown} is beyond "
                     "a double (magnitude at most 1.8e308)"
