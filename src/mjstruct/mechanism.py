@@ -295,8 +295,8 @@ got (1.0, inf)
     if value is None and optional:
         return
     ok = isinstance(value, (tuple, list)) and len(value) == 2
-    if ok:
-        for v in value:  # type: ignore[union-attr]
+    if isinstance(value, (tuple, list)) and ok:
+        for v in value:
             if isinstance(v, bool) or not isinstance(v, numbers.Real):
                 ok = False
             else:
