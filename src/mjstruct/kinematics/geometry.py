@@ -46,6 +46,18 @@ __all__ = ["COINCIDE", "Geometry", "geometry_of", "read_geometry"]
 #: hull vertices from which the pairwise distances are taken in numpy blocks
 HULL_VECTORISED = 64
 
+#: the sizes analysed (largest distance between two joint centres, in the file's unit).
+#: The triangle steps form products of three lengths (and of analogs up to 1e12 times
+#: the size for the shortest side COINCIDE allows), which must stay normal doubles:
+#: measured exact up to scaling from 1e-100 to 1e80 (the shipped examples, 24 frames),
+#: wrong from 1e-108 (velocities underflow to 0) and 1e85 (closure groups); this range
+#: keeps a factor 1e30 in the cube from either end (tests/cli/test_extreme_scale.py)
+SIZE_RANGE = (1e-50, 1e50)
+#: joint centres and points at most this many sizes from the origin: coordinates
+#: carry eps × (distance / size) of the mechanism, so farther ones keep fewer than 8
+#: digits of it (measured: 3e-8 of the size at 1e8, 2e-1 at 1e15)
+REACH = 1e8
+
 
 def diameter(points: list[complex]) -> float:
     """The largest distance between two of ``points`` (0 for fewer than two).
@@ -146,6 +158,30 @@ def first_close_pair(
     return None if best is None else (ids[best[0]], ids[best[1]])
 
 
+def _check_extent(m: Mechanism, centres: dict[str, complex], scale: float) -> None:
+    """Refuse a size outside :data:`SIZE_RANGE` or a coordinate beyond :data:`REACH`
+    sizes from the origin, naming the field: never numbers that underflow, overflow
+    or keep no digits of the mechanism."""
+    lo, hi = SIZE_RANGE
+    if not lo <= scale <= hi:
+        raise MechanismError(
+            f"joints.at: the mechanism's size (the largest distance between two joint "
+            f"centres) is {scale:.3g}; sizes from {lo:g} to {hi:g} are analysed (write "
+            "the coordinates in a unit nearer the mechanism's size)"
+        )
+    far = REACH * scale
+    places = [(f"joints[{k}].at", centres[j.id]) for k, j in enumerate(m.joints)]
+    places += [(f"points[{k}].at", complex(*p.at)) for k, p in enumerate(m.points)]
+    for where, z in places:
+        if not abs(z) <= far:  # also catches a distance that overflows
+            raise MechanismError(
+                f"{where}: ({z.real:.6g}, {z.imag:.6g}) lies {abs(z) / scale:.3g} sizes "
+                f"(the largest distance between joint centres, {scale:.3g}) from the origin; "
+                f"at most {REACH:g} (farther, coordinates keep fewer than 8 digits of the "
+                "mechanism: put the origin near it)"
+            )
+
+
 @dataclass(frozen=True)
 class Geometry:
     """Reference configuration of a mechanism (complex coordinates).
@@ -216,6 +252,7 @@ def geometry_of(m: Mechanism, drivers: tuple[str, ...]) -> Geometry:
     scale = diameter(list(centres.values()))
     if scale <= 0.0:
         raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
+    _check_extent(m, centres, scale)
     tol = COINCIDE * scale
     char_angle: dict[str, float] = {}
     char_joints: dict[str, tuple[str, ...]] = {}

@@ -73,7 +73,9 @@ class JacobianCheck:
     Attributes
     ----------
     J : the constraint Jacobian at the frames it was built on (``frames``), shape
-        (len(frames), Nu, 3Ns); only a few frames unless it was built everywhere.
+        (len(frames), Nu, 3Ns); only a few frames unless it was built everywhere.  In
+        units of the mechanism's size with the origin at its first joint (the rank
+        and the determinant's zeros do not depend on either).
     rank : rank of J per frame (-1: not examined).
     det : determinant with the drivers fixed per frame (nan: undefined or not square).
     equations, coordinates : Nu and 3Ns.
@@ -232,11 +234,47 @@ def check_jacobian(
     finite = np.ones(F, bool)
     for p in poses.values():
         finite &= np.isfinite(p.r) & np.isfinite(p.A[0])
+    # in units of the size, relative to the first joint: J's x, y and φ columns then
+    # have entries of one order whatever the unit and the origin (in the file's units
+    # the φ columns are lengths and the rank test's relative tolerance failed beyond
+    # sizes of about 1e8, or 1e9 sizes from the origin); log |det| is converted back
+    geom, poses, shift = _in_size_units(m, geom, poses, drivers)
     if factor is not None and finite.any():
-        got = _factored(m, geom, poses, drivers, sample, factor, finite)
+        got = _factored(m, geom, poses, drivers, sample, factor, finite, shift)
         if got is not None:
             return got
-    return _direct(m, geom, poses, drivers, sample, finite)
+    return _direct(m, geom, poses, drivers, sample, finite, shift)
+
+
+def _in_size_units(
+    m: Mechanism, geom: Geometry, poses: dict[str, Pose], drivers: tuple[str, ...]
+) -> tuple[Geometry, dict[str, Pose], float]:
+    """The geometry and poses moved to the first joint and divided by the size, and
+    log s^k, k = (moving links) - (angle rows: prismatic joints and revolute drivers).
+
+    Moving the origin adds multiples of the x, y columns to the φ columns (rank and
+    determinant unchanged); dividing lengths by s divides the φ columns by s, and the
+    rows whose φ entries are pure numbers (a prismatic joint's equal angles, a
+    revolute driver) are multiplied by s to stay as they were: det J_file =
+    det J_unit · s^k.
+    """
+    import dataclasses
+
+    s = geom.scale
+    o = next(iter(geom.centres.values()))
+    unit = dataclasses.replace(
+        geom,
+        centres={j: (z - o) / s for j, z in geom.centres.items()},
+        points={p: (link, (z - o) / s) for p, (link, z) in geom.points.items()},
+        scale=1.0,
+    )
+    moved = {
+        x: Pose((p.zA - o) / s, [(p.A[0] - o) / s, *(a / s for a in p.A[1:])], p.r, p.w)
+        for x, p in poses.items()
+    }
+    angle_rows = sum(j.kind == "P" for j in m.joints)
+    angle_rows += sum(m.joint(d).kind == "R" for d in drivers)
+    return unit, moved, (len(m.links) - 1 - angle_rows) * float(np.log(s))
 
 
 #: bytes of Jacobian matrices held at once (frames are taken in chunks within it)
@@ -327,24 +365,32 @@ def _direct(
     drivers: tuple[str, ...],
     sample: int,
     finite: npt.NDArray[np.bool_],
+    shift: float = 0.0,
 ) -> JacobianCheck:
-    """Determinant on every frame, rank on a sample and where the determinant is small."""
+    """Determinant on every frame, rank on a sample and where the determinant is small.
+
+    ``geom`` and ``poses`` in units of the size; ``shift`` converts log |det| back to
+    the file's units (:func:`_in_size_units`).
+    """
     F = finite.size
     nu, nc = _sizes(m, drivers)
     square = nu + len(drivers) == nc
     step = _chunk(nu, nc)
-    det = np.full(F, np.nan)
+    sign = np.full(F, np.nan)
+    logdet = np.full(F, np.nan)
     idx = np.flatnonzero(finite)
     if square:
         for lo in range(0, idx.size, step):
             part = idx[lo : lo + step]
             J, D = constraint_jacobian(m, geom, poses_at(poses, part), drivers)
-            det[part] = np.linalg.det(np.concatenate([J, D], axis=1))
-    a = np.abs(det)
-    top = np.nanmax(a) if np.isfinite(a).any() else np.nan
+            sign[part], logdet[part] = np.linalg.slogdet(np.concatenate([J, D], axis=1))
+        logdet = np.where(sign == 0, -np.inf, logdet + shift)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        det = sign * np.exp(logdet)
+    top = np.nanmax(logdet) if np.isfinite(logdet).any() else np.nan
     look = np.zeros(F, bool)
     look[np.linspace(0, F - 1, min(F, sample)).astype(int)] = True
-    look |= ~(a >= NEAR_SINGULAR * top)  # small or undefined determinant
+    look |= ~(logdet >= top + np.log(NEAR_SINGULAR))  # small or undefined determinant
     look &= finite
     rank = np.full(F, -1)
     kept: list[FloatArray] = []
@@ -356,7 +402,9 @@ def _direct(
         if sum(k.shape[0] for k in kept) < step:
             kept.append(J[: step - sum(k.shape[0] for k in kept)])
     J = np.concatenate(kept) if kept else np.zeros((0, nu, nc))
-    return JacobianCheck(J, rank, det, nu, nc, where[: J.shape[0]])
+    return JacobianCheck(
+        J, rank, det, nu, nc, where[: J.shape[0]], log_abs_det=logdet if square else None
+    )
 
 
 def _factored(
@@ -367,8 +415,10 @@ def _factored(
     sample: int,
     factor: tuple[FloatArray, FloatArray],
     finite: npt.NDArray[np.bool_],
+    shift: float = 0.0,
 ) -> JacobianCheck | None:
-    """The determinant from the plan's product, J on a few frames; None if it fails."""
+    """The determinant from the plan's product, J on a few frames; None if it fails
+    (``geom``, ``poses`` and ``shift`` as in :func:`_direct`)."""
     sign, logf = factor
     F = logf.shape[0]
     nu, nc = _sizes(m, drivers)
@@ -406,7 +456,7 @@ def _factored(
     J = np.concatenate(kept)
     cal_kept = cal[: J.shape[0]]
     s_dir = np.array([d[0] for d in dets])
-    l_dir = np.array([d[1] for d in dets])
+    l_dir = np.array([d[1] for d in dets]) + shift
     if not (np.isfinite(l_dir).all() and (s_dir != 0).all()):
         return None
     log_c = l_dir - logf[cal]
