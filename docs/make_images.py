@@ -74,7 +74,7 @@ def main() -> int:
     drawing("draw-forces.png", "slider-crank-seed000-dynamics", 1.0,
             ("loads", "inertia", "reactions"), speed=10.0)  # fmt: skip
     scene = scene_over_cycle(model("kin-radial-engine-5"), 24, ("velocity",))
-    write_animation(scene, str(IMG / "anim-radial-engine.gif"), fps=12, dpi=45)
+    write_animation(scene, str(IMG / "anim-radial-engine.gif"), fps=12)
     chart("chart-angles.png", "zhivago", "angles")
     chart("chart-omega.png", "slider-crank", "omega", speed=10.0)
     chart("chart-eps.png", "slider-crank", "eps", speed=10.0)

@@ -203,15 +203,64 @@ def test_charts_compute_only_what_they_show(orders, what, order):
     assert any(ax.get_lines() for ax in fig.axes)
 
 
+def plotted_at(line, x: np.ndarray) -> np.ndarray:
+    """The line's y where its x equals each of ``x`` (each must be plotted)."""
+    xs, ys = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+    out = []
+    for v in x:
+        (hit,) = np.flatnonzero(np.isclose(xs, v, rtol=0, atol=1e-9) & np.isfinite(ys))[:1]
+        out.append(ys[hit])
+    return np.array(out)
+
+
 def test_omega_chart_is_sigma_times_speed():
     from mjstruct.kinematics.solver import kinematic_analysis
 
     m = read_mechanism(example_path("slider-crank"))
     r = kinematic_analysis(m, frames=24, speed=3.0, checks=False)
-    fig = draw_chart(r.model, "omega", frames=24, speed=3.0)
+    # radians: the cycle as the kinematics runs it, from the reference
+    fig = draw_chart(r.model, "omega", frames=24, speed=3.0, radians=True)
     line = next(ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "link:2")
     assert np.allclose(line.get_ydata(), r.links["2"]["omega"], rtol=1e-12, atol=1e-12)
     assert np.allclose(line.get_xdata(), r.q[:, 0])
+    assert "(rad)" in fig.axes[0].get_xlabel()
+    # the default: the crank angle from 0 to 360°, every frame at its angle
+    fig = draw_chart(r.model, "omega", frames=24, speed=3.0)
+    ax = fig.axes[0]
+    line = next(ln for ln in ax.get_lines() if ln.get_gid() == "link:2")
+    phi = np.degrees(r.q[:, 0]) % 360
+    assert np.allclose(plotted_at(line, phi), r.links["2"]["omega"], rtol=1e-12, atol=1e-12)
+    x = np.asarray(line.get_xdata(), float)
+    assert np.all(np.diff(x[np.isfinite(x)]) > 0) and ax.get_xlim() == (0.0, 360.0)
+    assert "(°)" in ax.get_xlabel()
+    # continued across 360°: the curve reaches both ends of the axis
+    assert x[0] < 0 < 360 < x[-1]
+
+
+def test_angle_chart_in_degrees_keeps_a_swing_whole_and_breaks_a_full_turn():
+    m = read_mechanism(example_path("four-bar"))
+    model = KinematicModel.build(m)
+    fig = draw_chart(model, "angles", frames=72)
+    lines = {ln.get_gid(): ln for ln in fig.axes[0].get_lines()}
+    motion = model.motion(model.sweep(72), order=0)
+    phi = np.degrees(motion.q[:, 0]) % 360
+    for link, line in lines.items():
+        want = np.degrees(motion.angle(link.split(":")[1])[0])
+        got = plotted_at(line, phi)
+        # the same angle up to whole turns
+        assert np.allclose(np.mod(got - want + 180, 360) - 180, 0, atol=1e-9)
+        y = np.asarray(line.get_ydata(), float)
+        steps = np.abs(np.diff(y))
+        assert np.nanmax(steps) < 30  # no vertical line at a wrap
+    # the crank turns: its angle runs with the crank angle from 0 to 360°, in one
+    # piece on the axis; the rocker swings: in one piece
+    crank = np.asarray(lines["link:1"].get_ydata(), float)
+    x = np.asarray(lines["link:1"].get_xdata(), float)
+    on_axis = (x >= 0) & (x <= 360)
+    assert not np.isnan(crank[on_axis]).any()
+    assert np.allclose(np.diff(crank[on_axis]), np.diff(x[on_axis]), atol=1e-9)
+    rocker = np.asarray(lines["link:3"].get_ydata(), float)
+    assert not np.isnan(rocker).any()
 
 
 def parallelogram() -> KinematicModel:
@@ -267,13 +316,16 @@ def test_dynamics_charts_plot_the_dynamics_result():
     m = read_mechanism(example_path("slider-crank-seed000-dynamics"))
     model = KinematicModel.build(m)
     free = dynamic_analysis(m, qdot0=10.0, frames=36)
-    fig = draw_chart(model, "qdot", frames=36, speed=10.0)
+    fig = draw_chart(model, "qdot", frames=36, speed=10.0, radians=True)
     assert np.allclose(fig.axes[0].get_lines()[0].get_ydata(), free.qdot[:, 0])
+    phi = np.degrees(free.q[:, 0]) % 360
+    fig = draw_chart(model, "qdot", frames=36, speed=10.0)
+    assert np.allclose(plotted_at(fig.axes[0].get_lines()[0], phi), free.qdot[:, 0])
     steady = dynamic_analysis(m, speed=10.0, frames=36, outputs=("reactions",))
     fig = draw_chart(model, "reactions", frames=36, speed=10.0)
-    lines = {ln.get_gid(): ln.get_ydata() for ln in fig.axes[0].get_lines()}
+    lines = {ln.get_gid(): ln for ln in fig.axes[0].get_lines()}
     r = steady.reactions["B"]["3"]
-    assert np.allclose(lines["reaction:B:3"], np.hypot(r["x"], r["y"]))
+    assert np.allclose(plotted_at(lines["reaction:B:3"], phi), np.hypot(r["x"], r["y"]))
     assert set(CHARTS) >= {"V", "Q", "qdot", "qddot", "reactions"}
 
 
@@ -412,11 +464,17 @@ def test_singular_zones_are_drawn_on_the_scheme():
     (ax,) = fig.axes
     # the mechanism's scheme (pins, ground) at the first position, the others outlined
     assert len(artists(ax, "joint")) == len(m.joints) and artists(ax, "ground")
-    assert {a.get_gid() for a in artists(ax, "position")} == {"position:1", "position:2"}
+    assert {a.get_gid().rsplit(":", 1)[0] for a in artists(ax, "position")} == {
+        "position:1",
+        "position:2",
+    }
     # one wedge and one ψ note per zone
     zones = [z for p in analysis.singular for z in p.zone or () if z.psi is not None]
-    assert len(artists(ax, "zone")) == len(artists(ax, "psi")) == len(zones) >= 3
-    assert all(a.get_text().startswith("ψ = ") for a in artists(ax, "psi"))
+    values = [a for a in artists(ax, "psi") if not a.get_gid().endswith(":mark")]
+    marks = [a for a in artists(ax, "psi") if a.get_gid().endswith(":mark")]
+    assert len(artists(ax, "zone")) == len(values) == len(marks) == len(zones) >= 3
+    assert [a.get_text() for a in marks] == [f"ψ{n}" for n in range(1, len(zones) + 1)]
+    assert all(a.get_text().startswith(f"ψ{n} = ") for n, a in enumerate(values, 1))
 
 
 def test_draw_without_geometry_is_the_structural_scheme(tmp_path, capsys):

@@ -338,17 +338,13 @@ def test_force_layers_need_dynamics_data():
         scene_at(model_of("slider-crank"), layers=("reactions",))
 
 
-def test_notebook_reprs_are_small_and_quick():
-    import time
-
+def test_notebook_reprs_are_small():
+    # their speed is measured in benchmarks/bench_plot.py, not here
     from mjstruct.report import structural_report
 
     engine = read_mechanism(example_path("kin-radial-engine-5"))
-    engine._repr_svg_()  # imports once
-    start = time.perf_counter()
     svg = engine._repr_svg_()
     assert svg.startswith("<?xml") and "<svg" in svg and len(svg) < 80_000
-    assert time.perf_counter() - start < 5.0  # generous: a shared machine
     chain = read_mechanism(example_path("watt"))  # no geometry: an atlas panel
     assert "<svg" in chain._repr_svg_()
     r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=24, checks=False)
@@ -422,8 +418,12 @@ def test_force_layers_have_one_key_each_and_couples_below():
     # one scale for every force: the keys have one length
     assert len({k.U for k in keys.values()}) == 1
     # couples: an arc at the link, the value in the footer below the drawing
-    couples = artists(ax, "couple")
-    assert {c.get_gid() for c in couples} == {"couple:loads", "couple:inertia"}
+    couples = [c for c in artists(ax, "couple") if not c.get_gid().endswith(":sense")]
+    assert {c.get_gid() for c in couples} == {"couple:loads:1", "couple:inertia:1"}
+    assert all(c.get_text().startswith(("M (1) = ", "-J ε (2) = ")) for c in couples)
+    # each value with its sense of turning where the keys have their arrows
+    senses = [c.get_text() for c in artists(ax, "couple") if c.get_gid().endswith(":sense")]
+    assert len(senses) == 2 and set(senses) <= {"↺", "↻"}
     assert len(artists(ax, "torque")) == len(couples)
     bottom = min(b.y0 for b in _boxes(ax, "link", "joint", "ground"))
     assert all(b.y1 < bottom for b in _boxes(ax, "couple"))

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from mjstruct.cli.draw import (
+    add_angle_argument,
     add_layer_arguments,
     add_model_arguments,
     add_output_arguments,
@@ -21,6 +22,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_model_arguments(p)
     p.add_argument("--frames", type=int, default=72, help="frames over one cycle (default 72)")
     add_layer_arguments(p)
+    add_angle_argument(p)
     p.add_argument("--fps", type=int, default=20, help="frames per second (default 20)")
     p.add_argument("--dpi", type=int, default=80, help="resolution of each frame (default 80)")
     add_output_arguments(p, ".gif, .html, or .mp4 (needs ffmpeg)")
@@ -83,7 +85,15 @@ def run(args: argparse.Namespace) -> int:
         model, args.frames, layers, speed=args.speed, paths=paths, stroke=args.stroke
     )
     bar = ProgressBar.for_cli("animate", json_output=args.json)
-    write_animation(scene, args.output, fps=args.fps, dpi=args.dpi, progress=bar, name="-o")
+    write_animation(
+        scene,
+        args.output,
+        fps=args.fps,
+        dpi=args.dpi,
+        progress=bar,
+        name="-o",
+        radians=args.radians,
+    )
     mo = scene.motion
     gaps = [float(q) for q in mo.q[~mo.valid, 0]]
     warnings = list(mo.warnings) + [e.message() for e in mo.events]

@@ -43,8 +43,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--q", help="driver value(s) Q1,Q2 to draw at (default: the reference configuration)"
     )
     add_layer_arguments(p)
+    add_angle_argument(p)
     add_output_arguments(p, ".svg, .png or .pdf")
     p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
+
+
+def add_angle_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--radians",
+        action="store_true",
+        help="driver angles in radians (default: degrees, the crank angle from 0 to 360)",
+    )
 
 
 def add_output_arguments(p: argparse.ArgumentParser, formats: str) -> None:
@@ -135,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.plot.drawing import scene_at, write_drawing
 
     scene = scene_at(model, q, layers, speed=args.speed, paths=paths, stroke=args.stroke)
-    write_drawing(scene, args.output, dpi=args.dpi, name="-o")
+    write_drawing(scene, args.output, dpi=args.dpi, name="-o", radians=args.radians)
     warnings = list(scene.motion.warnings)
     ok = bool(scene.motion.valid[-1])
     if not ok:

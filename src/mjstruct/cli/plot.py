@@ -9,7 +9,13 @@ import argparse
 import warnings as warnings_module
 from typing import TYPE_CHECKING
 
-from mjstruct.cli.draw import add_model_arguments, add_output_arguments, finish, read_model
+from mjstruct.cli.draw import (
+    add_angle_argument,
+    add_model_arguments,
+    add_output_arguments,
+    finish,
+    read_model,
+)
 from mjstruct.errors import MechanismError
 
 if TYPE_CHECKING:
@@ -26,6 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--ids",
         help="links (angles, omega, eps) or joints/points (paths) to plot, comma-separated",
     )
+    add_angle_argument(p)
     add_output_arguments(p, ".svg, .png or .pdf")
     p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
     p.add_argument(
@@ -59,7 +66,9 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.plot.files import write_atomically
 
     try:
-        fig = draw_chart(model, args.what, args.frames, args.speed, args.stroke, ids)
+        fig = draw_chart(
+            model, args.what, args.frames, args.speed, args.stroke, ids, radians=args.radians
+        )
     except MechanismError as exc:  # library parameter names -> flags
         text = str(exc)
         for param, flag in (

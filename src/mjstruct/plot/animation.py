@@ -46,7 +46,16 @@ import numpy.typing as npt
 from mjstruct.errors import MechanismError
 from mjstruct.plot.drawing import Scene, SceneArtists
 from mjstruct.plot.files import check_output, write_atomically
-from mjstruct.plot.layout import figure_for
+from mjstruct.plot.layout import drawing_figure
+from mjstruct.plot.style import (
+    ACCELERATION_COLOUR,
+    DRIVER_COLOUR,
+    FORCE_COLOURS,
+    FRAME_COLOUR,
+    GROUP_COLOURS,
+    LINK_COLOUR,
+    VELOCITY_COLOUR,
+)
 
 if TYPE_CHECKING:
     from PIL import Image as PILImage
@@ -55,6 +64,20 @@ if TYPE_CHECKING:
 ANIMATION_SUFFIXES = (".gif", ".html", ".mp4")
 #: colours of a GIF's shared palette
 GIF_COLOURS = 255
+#: colours a drawing uses as they are: a GIF's palette holds them exactly
+STYLE_COLOURS = (
+    "white",
+    "black",
+    LINK_COLOUR,
+    FRAME_COLOUR,
+    DRIVER_COLOUR,
+    VELOCITY_COLOUR,
+    ACCELERATION_COLOUR,
+    *GROUP_COLOURS,
+    *FORCE_COLOURS.values(),
+    "0.85",  # the frame's pivots
+    "0.45",  # paths
+)
 
 Pixels = npt.NDArray[np.uint8]
 
@@ -83,15 +106,15 @@ class FrameRenderer:
     width : figure width in inches.
     """
 
-    def __init__(self, scene: Scene, dpi: int, width: float = 6.0) -> None:
+    def __init__(self, scene: Scene, dpi: int, width: float = 6.0, radians: bool = False) -> None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         self.scene = scene
-        self.figure = figure_for(scene, width=width, pyplot=False)
+        self.figure, ax = drawing_figure(scene, width=width, pyplot=False)
         self.figure.set_dpi(dpi)
         # matplotlib's canvas methods are untyped
         self.canvas = cast(Any, FigureCanvasAgg(self.figure))
-        self.drawing = SceneArtists(self.figure.add_subplot(), scene)
+        self.drawing = SceneArtists(ax, scene, radians=radians)
         self.changing = self.drawing.changing
         self.labels = self.drawing.labels
         self.keys = self.drawing.keys
@@ -110,27 +133,21 @@ class FrameRenderer:
         self.key_sprites = [self._sprite(key, (0, 0)) for key in self.keys]
 
     def _pixel(self, label: Any) -> tuple[int, int]:
-        """(column, row) of the pixel a label is drawn from: its anchor in the image."""
-        xy = label.xy if hasattr(label, "xy") else label.get_position()
-        x, y = self.drawing.ax.transData.transform(xy)
-        return round(x), self.canvas.get_width_height()[1] - round(y)
+        """(column, row) of the pixel a label's text is centred on: its point plus its
+        offset in points."""
+        x, y = self.drawing.ax.transData.transform(label.xy)
+        dx, dy = label.xyann
+        scale = self.figure.dpi / 72.0
+        return round(x + dx * scale), self.canvas.get_width_height()[1] - round(y + dy * scale)
 
     def _label_sprite(self, label: Any) -> tuple[Pixels, int, int]:
         """A label's sprite, drawn at the middle of the axes (wherever it is now: a
         frame that does not assemble leaves the labels unplaced)."""
         x0, x1, y0, y1 = self.scene.limits
-        middle = (0.5 * (x0 + x1), 0.5 * (y0 + y1))
-        moved = hasattr(label, "xy")
-        was = label.xy if moved else label.get_position()
-        if moved:
-            label.xy = middle
-        else:
-            label.set_position(middle)
+        was = label.xy
+        label.xy = (0.5 * (x0 + x1), 0.5 * (y0 + y1))
         sprite = self._sprite(label, self._pixel(label))
-        if moved:
-            label.xy = was
-        else:
-            label.set_position(was)
+        label.xy = was
         return sprite
 
     def _sprite(self, artist: Any, anchor: tuple[int, int]) -> tuple[Pixels, int, int]:
@@ -190,15 +207,24 @@ def _paste(image: Pixels, sprite: Pixels, r0: int, c0: int) -> None:
 
 
 def shared_palette(frames: list[Pixels]) -> PILImage.Image:
-    """One palette for every frame: the colours of a sample of all frames' pixels (every
-    third row and column of twelve frames spread over the cycle), by octree."""
+    """One palette for every frame: the drawing's own colours exactly (white, black, the
+    links', the driver's, the groups', the vectors'), then the colours of a sample of
+    all frames' pixels (every third row and column of twelve frames spread over the
+    cycle: the blends of anti-aliased edges) by octree."""
+    from matplotlib.colors import to_rgb
     from PIL import Image
 
+    exact = {tuple(round(255 * c) for c in to_rgb(x)) for x in STYLE_COLOURS}
     step = max(1, len(frames) // 12)
     sample = np.concatenate([f[::3, ::3] for f in frames[::step]], axis=0)
-    return Image.fromarray(sample).quantize(
-        colors=GIF_COLOURS, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE
+    blends = Image.fromarray(sample).quantize(
+        colors=GIF_COLOURS - len(exact), method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE
     )
+    used = 3 * (GIF_COLOURS - len(exact))
+    table = [v for rgb in sorted(exact) for v in rgb] + list(blends.getpalette() or [])[:used]
+    palette = Image.new("P", (1, 1))
+    palette.putpalette(table)
+    return palette
 
 
 def _indexed(frames: list[Pixels]) -> list[PILImage.Image]:
@@ -322,6 +348,7 @@ def write_animation(
     dpi: int = 80,
     progress: Callable[[int, int], None] | None = None,
     name: str = "path",
+    radians: bool = False,
 ) -> None:
     """Draw every shown frame of ``scene`` and write the animation to ``path``.
 
@@ -333,6 +360,7 @@ def write_animation(
     dpi : resolution of each frame.
     progress : called as ``progress(done, total)`` after each frame.
     name : what error messages call ``path``.
+    radians : the title's driver angles in radians (default: degrees, 0 to 360).
 
     Raises
     ------
@@ -346,7 +374,7 @@ def write_animation(
         raise MechanismError(
             f"{name}: writing .mp4 needs ffmpeg, which is not installed (use .gif or .html)"
         )
-    renderer = FrameRenderer(scene, dpi)
+    renderer = FrameRenderer(scene, dpi, radians=radians)
 
     def write(tmp: str) -> None:
         if suffix == ".mp4":

@@ -13,9 +13,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mjstruct.plot.forces import FORCE_LAYERS
-from mjstruct.plot.layout import ROW, footer_slot, keyed_layers, round_length
+from mjstruct.plot.layout import (
+    ROW,
+    footer_slot,
+    keyed_layers,
+    legend_place,
+    round_length,
+    scale_bar_place,
+    title_lines,
+)
 from mjstruct.plot.scene import Scene
-from mjstruct.plot.scheme import q_text
+from mjstruct.plot.scheme import angle_text, q_text
 from mjstruct.plot.style import ARROW, DRIVER_COLOUR, FORCE_COLOURS, FRAME_COLOUR
 from mjstruct.typing import ComplexArray, FloatArray
 
@@ -38,30 +46,36 @@ class AnnotationArtists:
         colours: dict[str, Any],
         quivers: dict[str, Any],
         title: bool = True,
+        radians: bool = False,
     ) -> None:
-        self.ax, self.scene = ax, scene
+        self.ax, self.scene, self.radians = ax, scene, radians
+        #: the footer spreads over the axes' width (a tall drawing is widened to them)
+        self.xlim: tuple[float, float] = tuple(ax.get_xlim())  # type: ignore[assignment]
         self.keys: dict[str, Any] = {}
         for i, layer in enumerate(keyed_layers(scene.layers, scene.arrow_scale)):
             if layer in quivers:
                 self.keys[layer] = self._key(layer, quivers[layer], i)
-        self.couples: list[tuple[Any, str, FloatArray, ComplexArray]] = []
+        self.couples: list[tuple[Any, Any, str, FloatArray, ComplexArray]] = []
         i = len(keyed_layers(scene.layers, scene.arrow_scale))
+        s = scene.arrow_scale.get("force", 0.0)
+        # a couple's entry lines up with the force keys: its sense where their arrows
+        # are, its value where their labels start
+        arrow = round_length(ARROW * scene.model.scale / s / 2) * s if s > 0 else 0.0
         for layer in (x for x in FORCE_LAYERS if x in scene.forces):
-            for label, at, moment in scene.forces[layer].couples:
-                x, y = footer_slot(scene, i)
+            for n, (label, at, moment) in enumerate(scene.forces[layer].couples, 1):
+                x, y = footer_slot(scene, i, self.xlim)
                 i += 1
-                text = ax.text(
-                    x,
-                    y,
-                    "",
-                    ha="left",
-                    va="center",
-                    fontsize=8,
-                    color=FORCE_COLOURS[layer],
-                    zorder=9,
-                    gid=f"couple:{layer}",
-                )
-                self.couples.append((text, label, moment, at))
+                colour = FORCE_COLOURS[layer]
+                sense = ax.text(
+                    x + 0.5 * arrow, y, "", ha="center", va="center", fontsize=11,
+                    color=colour, zorder=9, gid=f"couple:{layer}:{n}:sense",
+                )  # fmt: skip
+                text = ax.annotate(
+                    "", (x + arrow, y), xytext=(7.2, 0.0), textcoords="offset points",
+                    ha="left", va="center", fontsize=8, color=colour, zorder=9,
+                    gid=f"couple:{layer}:{n}",
+                )  # fmt: skip
+                self.couples.append((text, sense, label, moment, at))
         self.note = ax.text(
             0.5,
             0.5,
@@ -86,29 +100,33 @@ class AnnotationArtists:
         )
         (self.star,) = ax.plot(
             [], [], ls="none", marker="*", ms=16, color=DRIVER_COLOUR, alpha=0.7, zorder=8,
-            gid="branch",
+            gid="branch:star",
         )  # fmt: skip
         if "assur" in scene.layers:
-            draw_assur_legend(ax, scene, colours)
-        draw_scale_bar(ax, scene)
+            slots = len(keyed_layers(scene.layers, scene.arrow_scale)) + len(self.couples)
+            draw_assur_legend(ax, scene, colours, legend_place(scene, slots, self.xlim))
+        draw_scale_bar(ax, scene, self.xlim)
         self.title = self.subtitle = None
         if title:
             # texts in axes coordinates: set_title costs a tight-bbox pass per frame;
             # the name never changes, the driver values below it do
             name = scene.model.mechanism.name or "mechanism"
+            fig: Any = ax.get_figure(root=True)
+            width = fig.get_figwidth() * ax.get_position().width
             self.title = ax.annotate(
-                name, (0.5, 1.0), xycoords="axes fraction", xytext=(0, 12),
-                textcoords="offset points", ha="center", va="bottom", fontsize=10, gid="title",
+                "\n".join(title_lines(name, width)), (0.5, 1.0), xycoords="axes fraction",
+                xytext=(0, 12), textcoords="offset points", ha="center", va="bottom",
+                fontsize=10, gid="title",
             )  # fmt: skip
             self.subtitle = ax.text(
                 0.5, 1.0, "", transform=ax.transAxes, ha="center", va="bottom", fontsize=10,
-                gid="title",
+                gid="title:q",
             )  # fmt: skip
 
     @property
     def changing(self) -> list[Any]:
         """The artists :meth:`show` changes other than the keys (which only toggle)."""
-        texts = [text for text, _, _, _ in self.couples]
+        texts = [a for text, sense, _, _, _ in self.couples for a in (text, sense)]
         return [*texts, self.note, self.branch, self.star, self.subtitle]
 
     def _key(self, layer: str, quiver: Any, slot: int) -> Any:
@@ -117,10 +135,10 @@ class AnnotationArtists:
         s = scene.arrow_scale["force" if force else layer]
         length = round_length(ARROW * scene.model.scale / s / 2)
         unit = "units" if force else ("units/s" if layer == "velocity" else "units/s²")
-        x, y = footer_slot(scene, slot)
+        x, y = footer_slot(scene, slot, self.xlim)
         key = _key_class()(
             quiver,
-            x,
+            x + length * s,  # the key's arrow ends there (its label follows): from the slot
             y,
             length,
             f"{layer} {length:g} {unit}",
@@ -139,24 +157,37 @@ class AnnotationArtists:
         scene = self.scene
         for layer, key in self.keys.items():
             key.set_visible(layer in shown)
-        for text, label, moment, where in self.couples:
+        for text, sense, label, moment, where in self.couples:
             visible = at is not None and np.isfinite(where[k]) and np.isfinite(moment[k])
             text.set_visible(bool(visible))
+            sense.set_visible(bool(visible) and moment[k] != 0)
             if visible:
                 text.set_text(f"{label} = {moment[k] + 0.0:.3g}")
+                sense.set_text("↺" if moment[k] > 0 else "↻")
         self.note.set_visible(at is None)
+        q = q_text(scene, k, self.radians)
         if at is None:
-            self.note.set_text(f"q = {q_text(scene, k)}: the mechanism does not assemble")
+            self.note.set_text(f"q = {q}: the mechanism does not assemble")
         events = [e for e in scene.motion.events if e.frame == k]
         self.branch.set_visible(bool(events))
         self.branch.set_text(
-            "\n".join(f"{e.kind} at joint {e.joint} (q = {e.q:.4g})" for e in events)
+            "\n".join(
+                f"{e.kind} at joint {e.joint} "
+                f"(q = {angle_text(e.q, self.radians) if self._revolute else f'{e.q:.4g}'})"
+                for e in events
+            )
         )
         stars = [at[e.joint] for e in events if at is not None and e.joint in at]
         self.star.set_data([z.real for z in stars], [z.imag for z in stars])
         self.star.set_visible(bool(stars))
         if self.subtitle is not None:
-            self.subtitle.set_text(f"q = {q_text(scene, k)}")
+            self.subtitle.set_text(f"q = {q}")
+
+    @property
+    def _revolute(self) -> bool:
+        """Whether the first driver turns (its q is an angle)."""
+        model = self.scene.model
+        return model.mechanism.joint(model.drivers[0]).kind == "R"
 
 
 @cache
@@ -173,15 +204,11 @@ def _key_class() -> Any:
     return Key
 
 
-def draw_scale_bar(ax: Axes, scene: Scene) -> None:
+def draw_scale_bar(ax: Axes, scene: Scene, xlim: tuple[float, float] | None = None) -> None:
     """A bar of a round length at the left of the footer, clear of the mechanism."""
-    x0, x1, y0, y1 = scene.limits
-    length = round_length(0.25 * scene.model.scale)
-    w = x1 - x0
-    xa = x0 + 0.04 * w
-    # the footer's middle; without a footer (a scene built by hand) the lower left
-    ya = y0 + (scene.footer / 2 if scene.footer > 0 else 0.05 * (y1 - y0)) - 0.2 * ROW * w
-    tick = 0.15 * ROW * w
+    x0, x1, _, _ = scene.limits
+    xa, ya, length = scale_bar_place(scene, xlim)
+    tick = 0.15 * ROW * (x1 - x0)
     ax.plot(
         [xa, xa + length, xa + length, xa + length, xa, xa],
         [ya, ya, ya + tick, ya - tick, ya - tick, ya + tick],
@@ -196,11 +223,15 @@ def draw_scale_bar(ax: Axes, scene: Scene) -> None:
         ha="center",
         va="bottom",
         fontsize=8,
-        gid="scalebar",
+        gid="scalebar:length",
     )
 
 
-def draw_assur_legend(ax: Axes, scene: Scene, colours: dict[str, Any]) -> None:
+def draw_assur_legend(
+    ax: Axes, scene: Scene, colours: dict[str, Any], corner: tuple[float, float]
+) -> None:
+    """The Assur groups' colours as a legend in the footer, two entries to a row, its
+    top-left corner at ``corner`` (length units): below the drawing, never on it."""
     from matplotlib.lines import Line2D
 
     from mjstruct.structure.assur import roman
@@ -215,4 +246,18 @@ def draw_assur_legend(ax: Axes, scene: Scene, colours: dict[str, Any]) -> None:
     for g, group in enumerate(d.groups):
         text = f"group {g + 1}: class {roman(group.klass)}, links {', '.join(group.links)}"
         handles.append(Line2D([], [], lw=5, color=colours[group.links[0]], label=text))
-    ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
+    legend = ax.legend(
+        handles=handles,
+        loc="upper left",
+        bbox_to_anchor=corner,
+        bbox_transform=ax.transData,
+        ncols=2,
+        fontsize=7,
+        frameon=False,
+        borderaxespad=0.0,
+        borderpad=0.0,
+        labelspacing=0.45,
+        handlelength=1.8,
+        columnspacing=1.5,
+    )
+    legend.set_gid("legend:assur")

@@ -27,6 +27,7 @@ Examples
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -37,7 +38,7 @@ import numpy.typing as npt
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.plot.layers import dynamics_available
-from mjstruct.typing import FloatArray
+from mjstruct.typing import FloatArray, IntArray
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -52,24 +53,123 @@ TRANSMISSION_LIMITS = (40.0, 140.0)
 @dataclass(frozen=True)
 class ChartData:
     """What a chart draws from: the motion over the cycle, the user's choices and, for a
-    dynamics chart, the :class:`~mjstruct.dynamics.DynamicsResult`."""
+    dynamics chart, the :class:`~mjstruct.dynamics.DynamicsResult`.
+
+    The abscissa is the first driver's coordinate: for a revolute driver its angle in
+    degrees from 0 to 360 (the cycle's frames in that order, the curve closed across
+    360°), with ``radians`` the coordinate in radians as the cycle runs from the
+    reference; for a prismatic driver its slide.
+    """
 
     model: KinematicModel
     motion: Motion
     speed: float
     ids: tuple[str, ...] | None
     dynamics: Any = None
+    radians: bool = False
 
     @property
     def q(self) -> FloatArray:
-        """The first driver's coordinate over the frames (the abscissa)."""
+        """The first driver's coordinate over the frames, in the cycle's order."""
         return np.asarray(self.motion.q[:, 0], float)
+
+    @property
+    def degrees(self) -> bool:
+        """Whether the abscissa is the driver's angle from 0 to 360°."""
+        d = self.model.drivers[0]
+        return not self.radians and self.model.mechanism.joint(d).kind == "R"
 
     def masked(self, values: Any) -> FloatArray:
         """Real values with the frames that do not assemble set to NaN (gaps)."""
         a = np.array(values, dtype=float)
         a[~self.motion.valid] = np.nan
         return a
+
+    def _order(self) -> tuple[FloatArray, IntArray]:
+        """(abscissa, the frames in its order)."""
+        q = self.q
+        if not self.degrees:
+            return q, np.arange(q.size)
+        phi = np.degrees(q) % 360.0
+        order = np.argsort(phi, kind="stable")
+        return phi[order], order
+
+    def curve(self, values: Any, angle: bool = False) -> tuple[FloatArray, FloatArray]:
+        """(x, y) of a quantity over the frames as the chart plots it.
+
+        ``angle``: the values are angles (radians), shown in degrees on a 360° window
+        that cuts their range where it is emptiest.  In degrees the frames are put in
+        the order of the driver's angle and the curve is continued across 0/360°; where
+        the cycle's end does not come back to its start (a mechanism that changes
+        branch, an angle that turns a full turn) the curve is broken, not joined.
+        """
+        y = self.masked(values)
+        if not self.degrees:
+            return self.q, y
+        if angle:
+            y = _window(np.degrees(y))
+        x, order = self._order()
+        ys = y[order]
+        n = ys.size
+        first = int(np.flatnonzero(order == 0)[0])
+        # the sweep's end meets its start between sorted positions first - 1 and first
+        joined = _comes_back(y)
+        xa, ya = x, ys
+        if not joined and 0 < first < n:
+            xa, ya = np.insert(xa, first, np.nan), np.insert(ya, first, np.nan)
+        if joined or first != 0:
+            # continue across 360°: the last frame before it and the first after it
+            before, after = ya[-1], ya[0]
+            if angle:  # the same angles, by whole turns the nearest to their neighbours
+                before -= 360.0 * np.round((before - ya[0]) / 360.0)
+                after -= 360.0 * np.round((after - ya[-1]) / 360.0)
+            xa = np.concatenate([[xa[-1] - 360.0], xa, [xa[0] + 360.0]])
+            ya = np.concatenate([[before], ya, [after]])
+        if angle:
+            xa, ya = _break_jumps(xa, ya, 180.0)
+        return xa, ya
+
+    def mask(self, flags: Any) -> tuple[FloatArray, npt.NDArray[np.bool_]]:
+        """(x, flags) in the abscissa's order, for shading runs of frames."""
+        x, order = self._order()
+        return x, np.asarray(flags, bool)[order]
+
+
+def _comes_back(y: FloatArray) -> bool:
+    """Whether a cycle's last value leads back to its first: the step between them is
+    no longer than twice the longest other step (NaN steps left out)."""
+    steps = np.abs(np.diff(y))
+    steps = steps[np.isfinite(steps)]
+    closing = abs(y[0] - y[-1])
+    if not np.isfinite(closing):
+        return True  # a gap there: nothing is joined anyway
+    return bool(steps.size and closing <= 2.0 * steps.max() + 1e-12 * (1 + abs(y[0])))
+
+
+def _window(deg: FloatArray) -> FloatArray:
+    """Angles (degrees) moved by whole turns into one 360° window whose cut lies in the
+    middle of the widest empty arc of their values (a rocker's swing stays in one
+    piece); the window is [cut, cut + 360°), or a turn lower when the cut is past 180°;
+    angles with no empty arc of 90° (a link that turns round) go from 0 to 360°."""
+    finite = np.sort(np.mod(deg[np.isfinite(deg)], 360.0))
+    if finite.size == 0:
+        return deg
+    gaps = np.diff(np.concatenate([finite, [finite[0] + 360.0]]))
+    i = int(np.argmax(gaps))
+    if gaps[i] < 90.0:
+        cut = 0.0  # a link that turns round: 0 to 360°, as the crank angle
+    else:
+        cut = float(np.mod(finite[i] + 0.5 * gaps[i], 360.0))
+        if cut >= 180.0:
+            cut -= 360.0
+    return np.asarray(cut + np.mod(deg - cut, 360.0), float)
+
+
+def _break_jumps(x: FloatArray, y: FloatArray, jump: float) -> tuple[FloatArray, FloatArray]:
+    """A NaN between neighbours whose values differ by more than ``jump`` (a wrap)."""
+    d = np.abs(np.diff(y))
+    cut = np.flatnonzero(np.isfinite(d) & (d > jump)) + 1
+    return np.insert(x, cut, np.nan), np.insert(y, cut, np.nan)
 
 
 @dataclass(frozen=True)
@@ -96,11 +196,13 @@ def _links(data: ChartData) -> list[str]:
 def _link_chart(order: int, label: str, unit: str) -> Callable[[ChartData, Figure], None]:
     def draw(data: ChartData, fig: Figure) -> None:
         ax = fig.add_subplot()
+        angle = order == 0 and data.degrees
         for link in _links(data):
             y = data.motion.angle(link)[order] * data.speed**order
-            ax.plot(data.q, data.masked(y), lw=1.4, label=f"link {link}", gid=f"link:{link}")
-        _finish(ax, data, f"{label} ({unit})")
-        ax.legend(fontsize=8, ncols=2)
+            x, yy = data.curve(y, angle=angle)
+            ax.plot(x, yy, lw=1.4, label=f"link {link}", gid=f"link:{link}")
+        _finish(ax, data, f"{label} ({'°' if angle else unit})")
+        _legend(ax)
 
     return draw
 
@@ -128,11 +230,11 @@ def _paths(data: ChartData, fig: Figure) -> None:
             pos = data.motion.point(link, z)[0]
         else:
             pos = data.motion.centre(pid)[0]
-        ax_x.plot(data.q, data.masked(pos.real), lw=1.4, label=pid, gid=f"x:{pid}")
-        ax_y.plot(data.q, data.masked(pos.imag), lw=1.4, label=pid, gid=f"y:{pid}")
+        ax_x.plot(*data.curve(pos.real), lw=1.4, label=pid, gid=f"x:{pid}")
+        ax_y.plot(*data.curve(pos.imag), lw=1.4, label=pid, gid=f"y:{pid}")
     _finish(ax_x, data, "x", xlabel=False)
     _finish(ax_y, data, "y")
-    ax_x.legend(fontsize=8, ncols=2)
+    _legend(ax_x)
 
 
 def jacobian_determinant(motion: Motion) -> FloatArray:
@@ -164,9 +266,9 @@ def near_singular(det: FloatArray) -> npt.NDArray[np.bool_]:
 def _jacobian(data: ChartData, fig: Figure) -> None:
     ax = fig.add_subplot()
     det = jacobian_determinant(data.motion)
-    ax.plot(data.q, det, lw=1.4, color="tab:blue", gid="jacobian")
+    ax.plot(*data.curve(det), lw=1.4, color="tab:blue", gid="jacobian")
     ax.axhline(0.0, color="0.5", lw=0.8)
-    _shade(ax, data.q, near_singular(det), "tab:red", "near-singular", "singular")
+    _shade(ax, *data.mask(near_singular(det)), "tab:red", "near-singular", "singular")
     _finish(ax, data, "det J (drivers fixed)")
     _legend(ax)
 
@@ -197,13 +299,19 @@ def transmission_angle(motion: Motion) -> FloatArray:
 def _transmission(data: ChartData, fig: Figure) -> None:
     ax = fig.add_subplot()
     mu = np.degrees(transmission_angle(data.motion))
-    ax.plot(data.q, data.masked(mu), lw=1.4, color="tab:blue", gid="transmission")
-    for limit in TRANSMISSION_LIMITS:
-        ax.axhline(limit, color="0.4", lw=0.8, ls=":", gid="limit")
+    ax.plot(*data.curve(mu), lw=1.4, color="tab:blue", gid="transmission")
+    for n, limit in enumerate(TRANSMISSION_LIMITS):
+        ax.axhline(limit, color="0.4", lw=0.8, ls=":", gid=f"limit:{n}")
+        ax.annotate(
+            f"usual limit {limit:g}°", (1.0, limit), xycoords=("axes fraction", "data"),
+            xytext=(-4, 3 if n else -3), textcoords="offset points", ha="right",
+            va="bottom" if n else "top", fontsize=7, color="0.35", gid=f"limit:{n}:label",
+        )  # fmt: skip
     det = jacobian_determinant(data.motion)
-    _shade(ax, data.q, near_singular(det), "tab:red", "near-singular", "singular")
+    _shade(ax, *data.mask(near_singular(det)), "tab:red", "near-singular", "singular")
     ax.set_ylim(0, 180)
-    _finish(ax, data, "transmission angle (degrees)")
+    ax.set_yticks(np.arange(0, 181, 30))
+    _finish(ax, data, "transmission angle (°)")
     _legend(ax)
 
 
@@ -213,7 +321,8 @@ def _shade(
     """Shade the runs of frames where ``mask`` holds (half a step either side)."""
     if q.size < 2:
         return
-    half = 0.5 * abs(q[1] - q[0])
+    half = 0.5 * float(np.nanmin(np.abs(np.diff(q)))) if q.size > 1 else 0.0
+    half = max(half, 0.5 * abs(q[1] - q[0]))
     k, first = 0, True
     while k < q.size:
         if not mask[k]:
@@ -237,18 +346,29 @@ def _shade(
 
 
 def _finish(ax: Axes, data: ChartData, ylabel: str, xlabel: bool = True) -> None:
-    _shade(ax, data.q, ~data.motion.valid, "0.5", "does not assemble", "gap")
+    _shade(ax, *data.mask(~data.motion.valid), "0.5", "does not assemble", "gap")
     ax.set_ylabel(ylabel)
+    if data.degrees:
+        ax.set_xlim(0.0, 360.0)
+        ax.set_xticks(np.arange(0, 361, 45))
     if xlabel:
         d = data.model.drivers[0]
-        unit = "rad" if data.model.mechanism.joint(d).kind == "R" else "length"
-        ax.set_xlabel(f"q = driver {d} ({unit})")
+        if data.degrees:
+            ax.set_xlabel(f"q: angle of driver {d} (°)")
+        elif data.model.mechanism.joint(d).kind == "R":
+            ax.set_xlabel(f"q: angle of driver {d} (rad)")
+        else:
+            ax.set_xlabel(f"q: slide of driver {d} (length)")
     ax.grid(True, lw=0.4, alpha=0.5)
 
 
 def _legend(ax: Axes) -> None:
+    """The legend beside the plot, right of the axes: never on the curves."""
     if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=8)
+        ax.legend(
+            fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+            frameon=False,
+        )  # fmt: skip
 
 
 def _ms_diagram(data: ChartData, fig: Figure) -> None:
@@ -280,18 +400,17 @@ def _dynamic(what: str) -> Callable[[ChartData, Figure], None]:
                     f = per[link]
                     mag = np.hypot(f["x"], f["y"])
                     ax.plot(
-                        data.q,
-                        data.masked(mag),
+                        *data.curve(mag),
                         lw=1.3,
                         label=f"{jid} on {link}",
                         gid=f"reaction:{jid}:{link}",
                     )
             _finish(ax, data, "|R| (force units)")
-            ax.legend(fontsize=7, ncols=3)
+            _legend(ax)
             return
         y = getattr(dyn, what)
         y = y[:, 0] if y.ndim == 2 else y
-        ax.plot(data.q[: y.size], y, lw=1.4, color="tab:blue", gid=what)
+        ax.plot(*data.curve(y), lw=1.4, color="tab:blue", gid=what)
         _finish(ax, data, labels[what])
 
     return draw
@@ -347,8 +466,14 @@ def draw_chart(
     stroke: float = 1.0,
     ids: Sequence[str] | None = None,
     fig: Figure | None = None,
+    radians: bool = False,
 ) -> Figure:
-    """Solve one cycle to the order chart ``what`` needs and draw it; returns the figure."""
+    """Solve one cycle to the order chart ``what`` needs and draw it; returns the figure.
+
+    Against a revolute driver the abscissa is its angle from 0 to 360°, and link angles
+    are in degrees; ``radians=True`` plots both in radians, the cycle from the reference.
+    The title is broken into lines that fit the figure.
+    """
     import matplotlib.pyplot as plt
 
     c = chart(what)
@@ -357,12 +482,15 @@ def draw_chart(
     dyn = _dynamics_for(model, what, frames, speed) if c.dynamics else None
     q = model.sweep(frames, speed, stroke) if dyn is None else dyn.q
     motion = model.motion(q, order=c.order)
-    data = ChartData(model, motion, speed, None if ids is None else tuple(ids), dyn)
+    data = ChartData(model, motion, speed, None if ids is None else tuple(ids), dyn, radians)
     if fig is None:
-        size = {"paths": (7.0, 5.5), "ms-diagram": (6.4, 6.0)}.get(what, (7.0, 4.2))
+        size = {"paths": (7.0, 5.5), "ms-diagram": (8.4, 6.0)}.get(what, (7.0, 4.2))
         fig = plt.figure(figsize=size)
     c.draw(data, fig)
-    fig.suptitle(f"{model.mechanism.name or 'mechanism'}: {c.help}", fontsize=10)
+    about = c.help if not data.degrees else c.help.replace("against q", "against the crank angle")
+    title = f"{model.mechanism.name or 'mechanism'}: {about}"
+    chars = int(fig.get_figwidth() * 72 / (10 * 0.58))
+    fig.suptitle("\n".join(textwrap.wrap(title, chars)), fontsize=10)
     return fig
 
 

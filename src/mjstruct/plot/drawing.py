@@ -34,7 +34,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.plot.annotations import AnnotationArtists
-from mjstruct.plot.layout import figure_for
+from mjstruct.plot.layout import drawing_figure, figure_for, fill_axes
 from mjstruct.plot.scene import (
     PATH_FRAMES,
     Scene,
@@ -76,6 +76,7 @@ __all__ = [
     "anchor_positions",
     "artists",
     "draw_scene",
+    "drawing_figure",
     "figure_for",
     "guide_sides",
     "scene_at",
@@ -92,9 +93,9 @@ class SceneArtists:
     and shows each frame in turn, so only the artists' data change between frames.
     """
 
-    def __init__(self, ax: Axes, scene: Scene, title: bool = True) -> None:
+    def __init__(self, ax: Axes, scene: Scene, title: bool = True, radians: bool = False) -> None:
         self.ax, self.scene = ax, scene
-        x0, x1, y0, y1 = scene.limits
+        x0, x1, y0, y1 = fill_axes(scene.limits, ax)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
@@ -103,7 +104,9 @@ class SceneArtists:
         self.scheme = SchemeArtists(ax, scene, colours)
         self.vectors = VectorArtists(ax, scene)
         quivers = {layer: q for layer, (q, _, _) in self.vectors.layers.items()}
-        self.annotations = AnnotationArtists(ax, scene, colours, quivers, title=title)
+        self.annotations = AnnotationArtists(
+            ax, scene, colours, quivers, title=title, radians=radians
+        )
 
     @property
     def changing(self) -> list[Any]:
@@ -139,19 +142,23 @@ class SceneArtists:
 
 
 def draw_scene(
-    scene: Scene, frame: int | None = None, ax: Axes | None = None, title: bool = True
+    scene: Scene,
+    frame: int | None = None,
+    ax: Axes | None = None,
+    title: bool = True,
+    radians: bool = False,
 ) -> Axes:
     """Draw frame ``frame`` of ``scene`` (default its last shown frame); returns the axes.
 
-    A frame that does not assemble shows the frame link and a note; a frame at a
-    branch point marks the joint where the branches meet.
+    Without ``ax``, a figure shaped to the scene is made (pyplot's).  A frame that does
+    not assemble shows the frame link and a note; a frame at a branch point marks the
+    joint where the branches meet.  The title gives the drivers' values, angles in
+    degrees from 0 to 360 (``radians=True``: in radians).
     """
-    import matplotlib.pyplot as plt
-
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 6))
+        _, ax = drawing_figure(scene, title=title)
     k = int(scene.shown[-1]) if frame is None else int(frame)
-    SceneArtists(ax, scene, title=title).show(k)
+    SceneArtists(ax, scene, title=title, radians=radians).show(k)
     return ax
 
 
@@ -171,17 +178,23 @@ def artists(ax: Axes, gid: str) -> list[Any]:
     return found
 
 
-def write_drawing(scene: Scene, path: str, dpi: int = 120, name: str = "path") -> None:
-    """Draw the scene's frame and write it (.svg, .png, .pdf) atomically."""
+def write_drawing(
+    scene: Scene, path: str, dpi: int = 120, name: str = "path", radians: bool = False
+) -> None:
+    """Draw the scene's frame and write it (.svg, .png, .pdf) atomically, cropped to
+    what is drawn."""
     import matplotlib.pyplot as plt
 
     from mjstruct.plot.files import FIGURE_SUFFIXES, check_output, write_atomically
 
     check_output(path, FIGURE_SUFFIXES, name=name)
-    fig = figure_for(scene)
+    fig, ax = drawing_figure(scene)
     try:
-        draw_scene(scene, ax=fig.add_subplot())
-        fig.tight_layout()
-        write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=dpi), name=name)
+        draw_scene(scene, ax=ax, radians=radians)
+        write_atomically(
+            path,
+            lambda tmp: fig.savefig(tmp, dpi=dpi, bbox_inches="tight", pad_inches=0.08),
+            name=name,
+        )
     finally:
         plt.close(fig)

@@ -16,6 +16,7 @@ Examples
 from __future__ import annotations
 
 import math
+import textwrap
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.plot.forces import FORCE_LAYERS, ForceLayer
@@ -38,14 +39,16 @@ def drawing_limits(
     layers: tuple[str, ...],
     forces: dict[str, ForceLayer],
     arrow_scale: dict[str, float],
+    legend: int = 0,
 ) -> tuple[tuple[float, float, float, float], float]:
     """(limits (x0, x1, y0, y1), footer height) of a drawing whose points are ``cloud``.
 
-    ``cloud`` holds every drawn position over the frames shown (finite values only).
+    ``cloud`` holds every drawn position over the frames shown (finite values only);
+    ``legend`` is the number of entries of the Assur legend, set below the keys.
     """
     pad = PAD * scale
     x0, x1 = float(cloud.real.min() - pad), float(cloud.real.max() + pad)
-    rows = footer_rows(layers, forces, arrow_scale)
+    rows = footer_rows(layers, forces, arrow_scale) + legend_rows(legend)
     footer = (rows + 0.6) * ROW * (x1 - x0)
     limits = (x0, x1, float(cloud.imag.min() - pad - footer), float(cloud.imag.max() + pad))
     return limits, footer
@@ -54,9 +57,15 @@ def drawing_limits(
 def footer_rows(
     layers: tuple[str, ...], forces: dict[str, ForceLayer], arrow_scale: dict[str, float]
 ) -> int:
-    """Rows of the footer: keys and couples two to a row beside the scale bar (>= 2)."""
+    """Rows of the footer's slots: keys and couples two to a row beside the scale bar
+    (at least two: the scale bar's)."""
     slots = len(keyed_layers(layers, arrow_scale)) + sum(len(f.couples) for f in forces.values())
     return max(2, -(-slots // 2))
+
+
+def legend_rows(entries: int) -> int:
+    """Rows of the footer the Assur legend takes (two entries to a row)."""
+    return -(-entries // 2)
 
 
 def keyed_layers(layers: tuple[str, ...], arrow_scale: dict[str, float]) -> list[str]:
@@ -76,22 +85,79 @@ def round_length(x: float) -> float:
     return float(10**e)
 
 
-def footer_slot(scene: Scene, i: int) -> tuple[float, float]:
-    """Where the ``i``-th key or couple value of the footer starts (two to a row)."""
+def _footer_top(scene: Scene) -> tuple[float, float]:
+    """(top of the footer's first row, the row height) in length units."""
     x0, x1, y0, _ = scene.limits
     w = x1 - x0
-    top = y0 + scene.footer - 0.3 * ROW * w
-    return x0 + (0.30 + 0.36 * (i % 2)) * w, top - (i // 2 + 0.5) * ROW * w
+    return y0 + scene.footer - 0.3 * ROW * w, ROW * w
+
+
+def _across(scene: Scene, xlim: tuple[float, float] | None) -> tuple[float, float]:
+    """(left, width) the footer spreads over: the axes' x range when given (a drawing
+    widened to its axes), else the scene's."""
+    x0, x1 = xlim if xlim is not None else scene.limits[:2]
+    return x0, x1 - x0
+
+
+def footer_slot(
+    scene: Scene, i: int, xlim: tuple[float, float] | None = None
+) -> tuple[float, float]:
+    """Where the ``i``-th key or couple value of the footer starts (two to a row)."""
+    x0, w = _across(scene, xlim)
+    top, row = _footer_top(scene)
+    return x0 + (0.30 + 0.36 * (i % 2)) * w, top - (i // 2 + 0.5) * row
+
+
+def scale_bar_place(
+    scene: Scene, xlim: tuple[float, float] | None = None
+) -> tuple[float, float, float]:
+    """(left end x, y, length) of the scale bar: a round length at the footer's left,
+    short enough to stay clear of the keys."""
+    x0, w = _across(scene, xlim)
+    length = round_length(min(0.25 * scene.model.scale, 0.2 * w))
+    if scene.footer <= 0:  # a scene built by hand: the lower left
+        sx0, sx1, y0, y1 = scene.limits
+        return x0 + 0.04 * w, y0 + 0.05 * (y1 - y0) - 0.2 * ROW * (sx1 - sx0), length
+    top, row = _footer_top(scene)
+    return x0 + 0.04 * w, top - 1.2 * row, length
+
+
+def legend_place(
+    scene: Scene, slots: int, xlim: tuple[float, float] | None = None
+) -> tuple[float, float]:
+    """Top-left corner of the Assur legend: below the footer's ``slots`` keys and values."""
+    x0, w = _across(scene, xlim)
+    top, row = _footer_top(scene)
+    return x0 + 0.04 * w, top - max(2, -(-slots // 2)) * row
+
+
+#: the drawing's height (inches, title left out) at the usual width of 7 inches, at most
+TALLEST = 8.0
+#: height (inches) of one line of a drawing's title (10 points and the line spacing)
+TITLE_LINE = 0.19
+
+
+def title_lines(name: str, width: float) -> list[str]:
+    """A drawing's name broken into lines that fit ``width`` inches at 10 points."""
+    chars = max(20, int(width * 72 / (10 * 0.58)))
+    return textwrap.wrap(name, chars, break_long_words=True) or [name]
+
+
+def _title_room(scene: Scene, width: float) -> float:
+    """Height (inches) above the drawing for its title: the name's lines and q's."""
+    return (len(title_lines(scene.model.mechanism.name or "mechanism", width)) + 1) * TITLE_LINE
 
 
 def figure_for(scene: Scene, width: float = 7.0, pyplot: bool = True) -> Any:
-    """A figure whose shape follows the scene's limits (title room included).
+    """A figure whose shape follows the scene's limits, with room for the title.
 
     ``pyplot=False``: a figure pyplot does not track (nothing to close, never shown).
     """
     x0, x1, y0, y1 = scene.limits
     ratio = min(2.0, max(0.5, (y1 - y0) / (x1 - x0)))
-    size = (width, width * ratio + 0.6)
+    # a tall mechanism is drawn narrower rather than taller than a page
+    width = max(0.5 * width, min(width, TALLEST * width / 7.0 / ratio))
+    size = (width, width * ratio + _title_room(scene, width) + 0.12)
     if not pyplot:
         from matplotlib.figure import Figure
 
@@ -99,3 +165,31 @@ def figure_for(scene: Scene, width: float = 7.0, pyplot: bool = True) -> Any:
     import matplotlib.pyplot as plt
 
     return plt.figure(figsize=size)
+
+
+def drawing_figure(
+    scene: Scene, width: float = 7.0, pyplot: bool = True, title: bool = True
+) -> tuple[Any, Any]:
+    """(figure, axes) for a drawing of ``scene``: the figure of :func:`figure_for` and
+    axes filling it below the title's room (the drawing's limits are widened to the
+    axes' shape, :func:`fill_axes`, so no margin is left)."""
+    fig = figure_for(scene, width=width, pyplot=pyplot)
+    height = fig.get_figheight()
+    room = _title_room(scene, fig.get_figwidth()) + 0.06 if title else 0.0
+    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0 - room / height))
+    return fig, ax
+
+
+def fill_axes(limits: tuple[float, float, float, float], ax: Any) -> tuple[float, ...]:
+    """``limits`` widened (on both sides of the short direction) to the shape of
+    ``ax``, so that an equal-aspect drawing fills its axes instead of leaving margins."""
+    x0, x1, y0, y1 = limits
+    box = ax.get_position()
+    fig = ax.get_figure(root=True)
+    shape = (box.height * fig.get_figheight()) / (box.width * fig.get_figwidth())
+    dx, dy = x1 - x0, y1 - y0
+    if dy < shape * dx:
+        grow = 0.5 * (shape * dx - dy)
+        return x0, x1, y0 - grow, y1 + grow
+    grow = 0.5 * (dy / shape - dx)
+    return x0 - grow, x1 + grow, y0, y1

@@ -81,7 +81,7 @@ def plot_ms_diagram(
     from matplotlib.patches import Patch
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=(6.4, 6.0))
+        fig, ax = plt.subplots(figsize=(8.4, 6.0))
     else:
         fig = ax.figure  # type: ignore[assignment]
     names = [*MOTIONS, "no loop"]
@@ -118,7 +118,11 @@ def plot_ms_diagram(
         ax.plot([point[0]], [point[1]], "r*", markersize=14, label=label)
     patches = [Patch(facecolor=COLOURS[n], edgecolor="0.5", label=n) for n in names]
     handles, _ = ax.get_legend_handles_labels()
-    ax.legend(handles=handles + patches, loc="upper right", fontsize=7, framealpha=0.9)
+    # beside the diagram: its regions and lines are what it shows
+    ax.legend(
+        handles=handles + patches, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7,
+        frameon=False,
+    )  # fmt: skip
     ax.set_xlim(0, extent)
     ax.set_ylim(0, extent)
     ax.set_xlabel("P2 = l2 / l0 (coupler)")
@@ -156,38 +160,51 @@ def plot_singular_zones(
     (:func:`~mjstruct.plot.drawing.draw_scene`: frame, links, pins, labels), the others
     as dashed outlines over it, each position in its own colour; every zone is a wedge
     of angle ``psi`` centred on the zone link's direction at the pivot the link turns
-    about, with ``psi`` written beside it.
+    about, marked ψ1, ψ2, ... and listed with its value right of the drawing.
     """
+    import dataclasses
+
     import matplotlib.pyplot as plt
 
     from mjstruct.kinematics.model import KinematicModel
     from mjstruct.plot.drawing import anchor_positions, draw_scene, scene_at
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=(8.4, 5.6))
+        fig, ax = plt.subplots(figsize=(9.0, 5.6))
     else:
         fig = ax.figure  # type: ignore[assignment]
     model = KinematicModel.build(mechanism, [analysis.input])
     m = mechanism
-    seen: list[complex] = []
+    scenes = [scene_at(model, q=[p.q]) for p in analysis.singular]
+    placed = [
+        anchor_positions(s, int(s.shown[-1])) if s.motion.valid[int(s.shown[-1])] else None
+        for s in scenes
+    ]
+    if scenes:
+        # one picture frame for every position: the first scene's, grown to cover them
+        # all (its footer, with the scale bar, stays below everything)
+        base = scenes[0]
+        cloud = np.array([z for pos in placed if pos for z in pos.values()], complex)
+        x0, x1, y0, y1 = base.limits
+        if cloud.size:
+            pad = 0.12 * model.scale
+            x0, x1 = min(x0, cloud.real.min() - pad), max(x1, cloud.real.max() + pad)
+            y0 = min(y0, cloud.imag.min() - pad - base.footer)
+            y1 = max(y1, cloud.imag.max() + pad)
+        draw_scene(dataclasses.replace(base, limits=(x0, x1, y0, y1)), ax=ax, title=False)
     notes = 0
-    for k, p in enumerate(analysis.singular):
-        scene = scene_at(model, q=[p.q])
+    for k, (p, pos) in enumerate(zip(analysis.singular, placed, strict=True)):
         colour = POSITION_COLOURS[k % len(POSITION_COLOURS)]
-        if k == 0:
-            draw_scene(scene, ax=ax, title=False)
-        last = int(scene.shown[-1])
-        if not scene.motion.valid[last]:
+        if pos is None:
             continue
-        pos = anchor_positions(scene, last)
-        seen += list(pos.values())
         if k > 0:
             for link in m.links:
                 if link != m.frame:
                     z = [pos[j] for j in m.link_joints[link]]
                     ax.plot([w.real for w in z], [w.imag for w in z], "--", color=colour,
-                            lw=1.6, zorder=4, gid=f"position:{k}")  # fmt: skip
-        label = f"{p.kind.replace('_', ' ')}, q = {math.degrees(p.q):.2f}°"
+                            lw=1.6, zorder=4, gid=f"position:{k}:{link}")  # fmt: skip
+        degrees = round(math.degrees(p.q) % 360.0, 2) % 360.0
+        label = f"{p.kind.replace('_', ' ')}, q = {degrees:.2f}°"
         ax.plot([], [], "-" if k == 0 else "--", color=colour, lw=2, label=label)
         for zone in p.zone or ():
             if zone.psi is None or zone.pair is None:
@@ -198,15 +215,9 @@ def plot_singular_zones(
             far = next(j for j in m.link_joints[zone.link] if j != shared)
             _zone(ax, pos[far], pos[shared], zone.psi, colour, notes, zone.link, (a, b))
             notes += 1
-    if seen:
-        cloud = np.array(seen)
-        x0, x1 = ax.get_xlim()
-        y0, y1 = ax.get_ylim()
-        pad = 0.1 * float(np.ptp(cloud.real) + np.ptp(cloud.imag)) / 2
-        ax.set_xlim(min(x0, cloud.real.min() - pad), max(x1, cloud.real.max() + pad))
-        ax.set_ylim(min(y0, cloud.imag.min() - pad), max(y1, cloud.imag.max() + pad))
-    # beside the axes: the scheme fills them
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), framealpha=0.85)
+    # beside the axes, the positions and below them the zones' callouts: the scheme
+    # fills the axes
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), frameon=False)
     clearance = "" if analysis.clearance is None else f" (D = {analysis.clearance:g})"
     ax.set_title(f"{m.name or 'mechanism'}: singular positions and clearance zones{clearance}",
                  fontsize=10)  # fmt: skip
@@ -239,17 +250,34 @@ def _zone(
             alpha=0.3,
             lw=1.0,
             zorder=8,
-            gid=f"zone:{link}",
+            gid=f"zone:{link}:{n}",
         )
     )
+    # the wedge is marked ψ1, ψ2, ... at a corner; its value is listed in a column
+    # right of the drawing, below the legend (no text on the drawing itself)
+    # at the corner of the wedge, off the link's line
+    u = np.exp(1j * math.radians(direction + half))
+    corner = centre + abs(tip - centre) * u
     ax.annotate(
-        f"ψ = {math.degrees(psi):.3g}° (link {link}, pair {pair[0]}-{pair[1]})",
-        (tip.real, tip.imag),
-        xytext=(10, 10 + 12 * n),
+        f"ψ{n + 1}",
+        (corner.real, corner.imag),
+        xytext=(9 * u.real, 9 * u.imag),
         textcoords="offset points",
+        ha="center",
+        va="center",
         fontsize=8,
         color=colour,
-        arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.8},
         zorder=9,
-        gid=f"psi:{link}",
+        gid=f"psi:{link}:{n}:mark",
+    )
+    ax.annotate(
+        f"ψ{n + 1} = {math.degrees(psi):.3g}° (link {link}, pair {pair[0]}-{pair[1]})",
+        (1.02, 0.72 - 0.06 * n),
+        xycoords="axes fraction",
+        ha="left",
+        va="center",
+        fontsize=8,
+        color=colour,
+        zorder=9,
+        gid=f"psi:{link}:{n}",
     )

@@ -51,15 +51,15 @@ def mechanism_svg(m: Mechanism) -> str:
     has geometry, frame and drivers, else the chain as an atlas panel."""
     if m.frame is not None and m.drivers and all(j.at is not None for j in m.joints):
         from mjstruct.kinematics.model import KinematicModel
-        from mjstruct.plot.drawing import draw_scene, scene_at
+        from mjstruct.plot.drawing import draw_scene, drawing_figure, scene_at
 
         try:
             scene = scene_at(KinematicModel.build(m))
         except MechanismError:
             scene = None
         if scene is not None:
-            fig = _figure()
-            draw_scene(scene, ax=fig.add_subplot())
+            fig, ax = drawing_figure(scene, width=WIDTH, pyplot=False)
+            draw_scene(scene, ax=ax)
             return _svg(fig)
     from mjstruct.plot.atlas_sheet import draw_chain
 
@@ -73,7 +73,7 @@ def kinematics_svg(result: KinematicsResult) -> str:
     moving joints and points over the result's frames."""
     import numpy as np
 
-    from mjstruct.plot.drawing import Scene, draw_scene, scene_at
+    from mjstruct.plot.drawing import Scene, draw_scene, drawing_figure, scene_at
 
     base = scene_at(result.model, result.q[0])
     paths = {}
@@ -100,8 +100,8 @@ def kinematics_svg(result: KinematicsResult) -> str:
         base.arrow_scale,
         footer=base.footer,
     )
-    fig = _figure()
-    draw_scene(scene, ax=fig.add_subplot())
+    fig, ax = drawing_figure(scene, width=WIDTH, pyplot=False)
+    draw_scene(scene, ax=ax)
     return _svg(fig)
 
 

@@ -227,8 +227,10 @@ def _scene(
     for z in paths.values():
         cloud.append(z[np.isfinite(z)])
     allz = np.concatenate(cloud)
+    legend = 0 if decomposition is None else 1 + len(decomposition.initial)
+    legend += 0 if decomposition is None else len(decomposition.groups)
     limits, footer = drawing_limits(
-        allz[np.isfinite(allz)], model.scale, layers, forces, arrow_scale
+        allz[np.isfinite(allz)], model.scale, layers, forces, arrow_scale, legend
     )
     return Scene(
         model,

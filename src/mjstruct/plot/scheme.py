@@ -14,12 +14,14 @@ drawing the scheme again for every frame.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjstruct.plot.scene import Scene, anchor_arrays, duplicate_joint, guide_sides
+from mjstruct.plot.placement import clearance, free_direction
+from mjstruct.plot.scene import Scene, anchor_arrays, duplicate_joint, guide_sides, vector_sites
 from mjstruct.plot.style import DRIVER_COLOUR, FRAME_COLOUR, GROUP_COLOURS, LINK_COLOUR
 from mjstruct.typing import ComplexArray
 
@@ -29,11 +31,30 @@ if TYPE_CHECKING:
 
 #: where a frame's anchors are drawn: key (joint id, point id, "J/block", ...) -> z
 At = dict[str, complex]
+#: font size (points) of the joint, link and point labels
+LABEL_SIZE = 8
 
 
-def q_text(scene: Scene, k: int) -> str:
-    """The driver values of frame ``k`` as a title shows them."""
-    return ", ".join(f"{v:.4g}" for v in scene.motion.q[k])
+def angle_text(q: float, radians: bool = False) -> str:
+    """An angle as people read it: degrees from 0 to 360 (or radians on request).
+
+    >>> angle_text(1.2), angle_text(-0.5), angle_text(2 * math.pi), angle_text(1.2, True)
+    ('68.8°', '331.4°', '0.0°', '1.2 rad')
+    """
+    if radians:
+        return f"{q:.4g} rad"
+    deg = round(math.degrees(q) % 360.0, 1) % 360.0
+    return f"{deg:.1f}°"
+
+
+def q_text(scene: Scene, k: int, radians: bool = False) -> str:
+    """The driver values of frame ``k`` as a title shows them: angles of revolute
+    drivers in degrees (or radians), slides in length units."""
+    m = scene.model.mechanism
+    return ", ".join(
+        angle_text(float(v), radians) if m.joint(d).kind == "R" else f"{v:.4g}"
+        for d, v in zip(scene.model.drivers, scene.motion.q[k], strict=True)
+    )
 
 
 def link_colours(scene: Scene) -> dict[str, Any]:
@@ -113,6 +134,11 @@ class SchemeArtists:
         self.parts: list[tuple[list[Artist], Callable[[At, int], None]]] = []
         #: the ids drawn beside joints, links and points: text that only moves
         self.labels: list[Any] = []
+        self._arrows: list[tuple[ComplexArray, ComplexArray]] = []
+        #: where the couples' arcs are drawn, over the frames
+        self._turns: list[ComplexArray] = []
+        #: label directions chosen at a point in the frame being shown (key -> directions)
+        self._taken: dict[str, list[complex]] = {}
         model = scene.model
         m = model.mechanism
         for j in m.joints:
@@ -148,6 +174,7 @@ class SchemeArtists:
 
     def show(self, k: int, at: At | None) -> None:
         """Place the moving artists at frame ``k`` (``at``: its positions; None: hidden)."""
+        self._taken.clear()
         for artists, update in self.parts:
             for a in artists:
                 a.set_visible(at is not None)
@@ -189,7 +216,9 @@ class SchemeArtists:
             a = base + t * r
             segs.append([(a.real, a.imag), (a.real - r, a.imag - 1.2 * r)])
         self.ax.add_artist(
-            LineCollection(segs, colors=FRAME_COLOUR, lw=1.0, zorder=1.5, gid=f"ground:{joint}")
+            LineCollection(
+                segs, colors=FRAME_COLOUR, lw=1.0, zorder=1.5, gid=f"ground:{joint}:hatching"
+            )
         )
 
     def _guide(self, joint: str) -> None:
@@ -354,7 +383,7 @@ class SchemeArtists:
             color=DRIVER_COLOUR,
             lw=1.5,
             zorder=6,
-            gid=f"driver:{d}",
+            gid=f"driver:{d}:arrow" if revolute else f"driver:{d}",
         )
         self.ax.add_artist(arrow)
         artists.append(arrow)
@@ -377,62 +406,197 @@ class SchemeArtists:
         scene = self.scene
         model = scene.model
         m = model.mechanism
+        self._arrows = _arrow_tails(scene)
+        self._turns = [at for fl in scene.forces.values() for _, at, _ in fl.couples]
         for j in m.joints:
             if j.kind == "P" and duplicate_joint(model, j.id):
                 continue
-            key = j.id if j.kind == "R" else f"{j.id}/block"
             label = self.ax.annotate(
                 j.id,
                 (0.0, 0.0),
-                xytext=(7, 7),
+                xytext=(0.0, 0.0),
                 textcoords="offset points",
-                fontsize=8,
+                ha="center",
+                va="center",
+                fontsize=LABEL_SIZE,
                 zorder=9,
                 gid=f"label:joint:{j.id}",
             )
-            self._add([label], self._follow(label, key))
+            self._add([label], self._joint_label(label, j.id))
             self.labels.append(label)
         for link in m.links:
             if link == model.frame:
                 continue
             keys = link_outline(scene, link)
-            text = self.ax.text(
-                0.0,
-                0.0,
+            text = self.ax.annotate(
                 link,
+                (0.0, 0.0),
+                xytext=(0.0, 0.0),
+                textcoords="offset points",
                 ha="center",
                 va="center",
-                fontsize=8,
+                fontsize=LABEL_SIZE,
                 zorder=9,
                 bbox={"boxstyle": "circle,pad=0.15", "fc": "white", "ec": "0.6", "lw": 0.6},
                 gid=f"label:link:{link}",
             )
-            self._add([text], self._link_label(text, keys))
+            self._add([text], self._link_label(text, link, keys))
             self.labels.append(text)
 
-    @staticmethod
-    def _follow(label: Any, key: str) -> Callable[[At, int], None]:
+    def _occupied(self, at: At, k: int, where: str, z: complex) -> list[complex]:
+        """Directions taken at ``z`` (joint or point ``where``) at frame ``k``: the bars and
+        plates of its links, the frame's pivot and guides, the arrows leaving it."""
+        scene = self.scene
+        model = scene.model
+        m = model.mechanism
+        tol = 0.5 * scene.pin
+        out: list[complex] = []
+        geom = model.geometry
+        if where in geom.points:
+            links = [geom.points[where][0]]
+        else:
+            j = m.joint(where)
+            links = [x for x in j.links if x != model.frame]
+            if j.kind == "R" and model.frame in j.links:
+                out += [-1j, np.exp(-1j * np.pi / 3), np.exp(-2j * np.pi / 3)]  # the pivot
+            for p in self._blocks_at(where):
+                u = self._direction(p, k)
+                out += [u, -u]  # the guide through a block at this point
+        for link in links:
+            pts = [at[key] for key in link_outline(scene, link)]
+            others = [p - z for p in pts if abs(p - z) > tol]
+            out += others
+            if len(pts) > 2:
+                out.append(sum(pts) / len(pts) - z)  # into the plate
+        for tails, vectors in self._arrows:
+            near = np.abs(tails[:, k] - z) <= tol
+            out += list(vectors[near, k])
+        out += self._taken.get(where, [])
+        # other pins close by (a label set towards one would touch it)
+        for j in m.joints:
+            if j.id != where and j.kind == "R":
+                d = at[j.id] - z
+                if tol < abs(d) <= 8.0 * scene.pin:
+                    out.append(d)
+        return out
+
+    def _blocks_at(self, where: str) -> list[str]:
+        """The prismatic joints whose block sits at joint ``where`` (itself included)."""
+        model = self.scene.model
+        m, geom = model.mechanism, model.geometry
+        if where not in geom.centres:
+            return []
+        z = geom.centres[where]
+        tol = 1e-9 * model.scale
+        links = set(m.joint(where).links)
+        return [
+            p
+            for p in geom.axes
+            if p == where
+            or (abs(geom.centres[p] - z) <= tol and guide_sides(model, p)[1] in links)
+        ]
+
+    def _joint_label(self, label: Any, joint: str) -> Callable[[At, int], None]:
+        scene = self.scene
+        j = scene.model.mechanism.joint(joint)
+        r = scene.pin
+        key = f"{joint}/block" if j.kind == "P" else joint
+        side: dict[int, complex] = {}  # the direction of the frame shown last
+        if self._blocks_at(joint) or joint in scene.model.drivers:
+            clear = 3.3 * r  # beyond a block's corners, or the driver's arc
+        else:
+            clear = (2.2 if j.is_multiple else 1.35) * r
+
         def update(at: At, k: int) -> None:
             z = at[key]
-            label.xy = (z.real, z.imag)
+            u = free_direction(np.array(self._occupied(at, k, joint, z), complex), side.get(0))
+            side[0] = u
+            w = z + clear * u
+            label.xy = (w.real, w.imag)
+            label.xyann = clearance(u, joint, LABEL_SIZE)
+            self._taken[key] = [u]
 
         return update
 
-    def _link_label(self, text: Any, keys: list[str]) -> Callable[[At, int], None]:
+    def _link_label(self, label: Any, link: str, keys: list[str]) -> Callable[[At, int], None]:
         pin = self.scene.pin
+        geom = self.scene.model.geometry
+        points = [p for p, (on, _) in geom.points.items() if on == link]
+        # beside a bar: half its width, the label's circle and a gap (points)
+        side = 2.5 + 0.35 * LABEL_SIZE * len(link) + 4.0
+        reach = 0.35 * LABEL_SIZE * len(link) + 3.0  # the label's circle (points)
 
         def update(at: At, k: int) -> None:
-            pts = [at[key] for key in keys]
-            if len(pts) >= 2:
-                c = sum(pts) / len(pts)
-                if len(pts) == 2:
-                    u = (pts[1] - pts[0]) / abs(pts[1] - pts[0])
-                    c += 2.2 * pin * 1j * u
+            pts = np.array([at[key] for key in keys])
+            offset = (0.0, 0.0)
+            if len(pts) == 1:
+                # a slider block: beside it, clear of its guide and its joint's label
+                z = complex(pts[0])
+                key = keys[0]
+                taken = self._taken.get(key, []) + self._taken.get(key.split("/")[0], [])
+                blocks = self._blocks_at(key.split("/")[0])
+                guides = [self._direction(p, k) for p in blocks]
+                u = free_direction(np.array(taken + guides + [-g for g in guides], complex))
+                c = z + 3.3 * pin * u
+                offset = clearance(u, link, LABEL_SIZE)
+            elif is_bar(pts):
+                # beside the bar: the middle above it (or right of an upright one) first,
+                # then a third, two thirds, ... either side, clear of pins and points
+                a, b = bar_ends(pts)
+                n = 1j * (b - a) / abs(b - a)
+                if n.imag < -1e-9 or (abs(n.imag) <= 1e-9 and n.real < 0):
+                    n = -n
+                spots = [(a + t * (b - a), sign * n * side) for t in (0.5, 0.33, 0.67, 0.25, 0.75)
+                         for sign in (1.0, -1.0)]  # fmt: skip
+                c, o = spots[self._clearest(spots, reach, at, k, points)]
+                offset = (o.real, o.imag)
             else:
-                c = pts[0] - 3.5j * pin
-            text.set_position((c.real, c.imag))
+                # inside the plate: its centre, else towards a corner or an edge
+                mid = complex(pts.mean())
+                edges = (pts + np.roll(pts, -1)) / 2
+                inner = [mid, *(mid + 0.4 * (v - mid) for v in [*pts, *edges])]
+                c = inner[self._clearest([(z, 0j) for z in inner], reach, at, k, points)]
+            label.xy = (c.real, c.imag)
+            label.xyann = offset
 
         return update
+
+    def _point_size(self) -> float:
+        """Length units per point of the axes (equal aspect: the same both ways)."""
+        fig: Any = self.ax.get_figure(root=True)
+        width = self.ax.get_position().width * fig.get_figwidth() * 72.0
+        x0, x1 = self.ax.get_xlim()
+        return float(x1 - x0) / width if width > 0 else 0.0
+
+    def _clearest(
+        self,
+        spots: list[tuple[complex, complex]],
+        reach: float,
+        at: At,
+        k: int,
+        points: list[str],
+    ) -> int:
+        """Index of the first of ``spots`` ((point, offset in points) of a label of radius
+        ``reach`` points) whose circle clears every pin, point and couple's arc; else of
+        the clearest."""
+        scene = self.scene
+        pt = self._point_size()
+        pin = scene.pin
+        m = scene.model.mechanism
+        obstacles = [(at[j.id], pin * (2.2 if j.is_multiple else 1.4)) for j in m.joints
+                     if j.kind == "R"]  # fmt: skip
+        obstacles += [(at[p], 0.6 * pin) for p in points]
+        obstacles += [(complex(z[k]), 2.8 * pin) for z in self._turns if np.isfinite(z[k])]
+        best, best_gap = 0, -np.inf
+        for i, (c, offset) in enumerate(spots):
+            centre = c + offset * pt
+            gap = min((abs(centre - o) - r for o, r in obstacles), default=np.inf)
+            gap -= reach * pt
+            if gap >= 0:
+                return i
+            if gap > best_gap:
+                best, best_gap = i, gap
+        return best
 
     def _point(self, pid: str) -> None:
         (dot,) = self.ax.plot(
@@ -441,18 +605,42 @@ class SchemeArtists:
         label = self.ax.annotate(
             pid,
             (0.0, 0.0),
-            xytext=(5, -10),
+            xytext=(0.0, 0.0),
             textcoords="offset points",
-            fontsize=8,
+            ha="center",
+            va="center",
+            fontsize=LABEL_SIZE,
             style="italic",
             zorder=9,
+            gid=f"label:point:{pid}",
         )
-        follow = self._follow(label, pid)
+        clear = 0.6 * self.scene.pin
+        side: dict[int, complex] = {}  # the direction of the frame shown last
 
         def update(at: At, k: int) -> None:
             z = at[pid]
             dot.set_data([z.real], [z.imag])
-            follow(at, k)
+            u = free_direction(np.array(self._occupied(at, k, pid, z), complex), side.get(0))
+            side[0] = u
+            w = z + clear * u
+            label.xy = (w.real, w.imag)
+            label.xyann = clearance(u, pid, LABEL_SIZE)
 
         self._add([dot, label], update)
         self.labels.append(label)
+
+
+def _arrow_tails(scene: Scene) -> list[tuple[ComplexArray, ComplexArray]]:
+    """(tails, vectors) over (arrows, frames) of every vector layer the scene shows."""
+    out: list[tuple[ComplexArray, ComplexArray]] = []
+    for layer, order in (("velocity", 1), ("acceleration", 2)):
+        if layer in scene.layers:
+            sites = vector_sites(scene.model, scene.motion, order, scene.speed)
+            if sites:
+                out.append((np.array([p for p, _ in sites]), np.array([v for _, v in sites])))
+    for fl in scene.forces.values():
+        if fl.arrows:
+            out.append(
+                (np.array([at for _, at, _ in fl.arrows]), np.array([f for _, _, f in fl.arrows]))
+            )
+    return out

@@ -53,8 +53,8 @@ class VectorArtists:
                 z = np.array([at for _, at, _ in fl.arrows])
                 f = np.array([f for _, _, f in fl.arrows])
                 self._quiver(layer, z, f, s, colour, 0.005)
-            for _, at, moment in fl.couples:
-                self._couple(at, moment, colour, f"torque:{layer}")
+            for n, (_, at, moment) in enumerate(fl.couples, 1):
+                self._couple(at, moment, colour, f"torque:{layer}:{n}")
 
     def _quiver(
         self, layer: str, z: ComplexArray, v: ComplexArray, s: float, colour: str, width: float
@@ -75,8 +75,9 @@ class VectorArtists:
             linewidth=0.7,
             width=width,
             zorder=7,
-            gid=layer,
         )
+        # set after: a gid given to quiver() is passed on to its keys' arrows (one id twice)
+        arrows.set_gid(layer)
         self.layers[layer] = (arrows, z, v)
 
     def _couple(self, at: ComplexArray, moment: FloatArray, colour: str, gid: str) -> None:
