@@ -67,9 +67,32 @@ class BranchEvent:
     kind: str
     sine: float
     action: str
+    #: the joints of the closure group whose limit this is (empty: one step's event)
+    group: tuple[str, ...] = ()
 
     def message(self) -> str:
         """The event in words (one line)."""
+        if self.kind == "mode flip":
+            return (
+                f"assembly mode flip at q = {self.q:.9g} (frame {self.frame}, step "
+                f"{self.step + 1}, joint {self.joint}): the dyad passes its own dead point "
+                f"inside a closure group that passes smoothly (|sin| = {self.sine:.3g} at the "
+                "nearest frame); its assembly mode flips there, the motion goes on"
+            )
+        if self.group:
+            joints = ", ".join(self.group)
+            if self.kind == "dead point":
+                return (
+                    f"dead point at q = {self.q:.9g} (frame {self.frame}): input limit of the "
+                    f"closure group of joints {joints}, the smallest singular value of the "
+                    f"mechanism's Jacobian (drivers fixed, relative) {self.sine:.3g}"
+                )
+            return (
+                f"closure stops at q = {self.q:.9g} (frame {self.frame}): the closure group of "
+                f"joints {joints} is not continued beyond, although the mechanism's Jacobian "
+                f"is regular there (smallest singular value, relative, {self.sine:.3g}): "
+                "not a dead point; the frames beyond are null"
+            )
         if self.kind == "change point":
             # whether the dyad's mode flips is bookkeeping: the motion itself continues
             flips = (
@@ -196,12 +219,20 @@ def track_branches(
     q: FloatArray,
     t: FloatArray | None = None,
     first: Evaluation | None = None,
+    modes: Modes | None = None,
+    stops: Sequence[tuple[FloatArray, FloatArray, Modes | None]] = (),
 ) -> tuple[FrameModes, list[BranchEvent]]:
     """Assembly mode per dyad step and frame, and the branch points met.
 
     With closure unknowns ``t`` (class III/IV plans) the modes are kept and events are
-    only reported (the closure fixes the branch by continuation).  ``first``: an
-    evaluation with the reference modes on the same frames, reused until a mode flips.
+    only reported (the closure fixes the branch by continuation): ``modes`` are the
+    closure's modes of its inner dyads per frame (each flip of one is an informational
+    "mode flip" event), and where the closure stops one event names the closure group,
+    a dead point (input limit of the group) where the mechanism's Jacobian loses rank
+    (located from the closure's ``stops``, the last stations before its edges, where
+    one lies between the two frames: it carries the modes the continuation had there).
+    ``first``: an evaluation with these modes (the reference's for the other steps) on
+    the same frames, reused until a mode flips.
     """
     plan = model.plan
     F = q.shape[0]
@@ -210,11 +241,23 @@ def track_branches(
     switchable = plan.unknowns == 0
     flipped = False
     solved: ClosureSolves = {}
+    closed: BoolArray | None = None
+    if t is not None and not switchable:
+        closed = np.asarray(np.isfinite(t).all(axis=1), dtype=bool)
+    inside = _closure_dependent(model) if closed is not None else frozenset()
     for k, s in enumerate(plan.steps):
         if not s.step_kind.has_modes:
             continue
         base_mode = reference_mode(plan, model.geometry, k)
-        K[k] = np.full(F, base_mode, dtype=np.int8)
+        if modes is not None and k in modes:
+            K[k] = np.array(np.broadcast_to(np.asarray(modes[k], np.int8), (F,)))
+        else:
+            K[k] = np.full(F, base_mode, dtype=np.int8)
+        flips = np.flatnonzero(K[k][1:] != K[k][:-1])
+        for f in flips:
+            # the flip lies between frames f and f + 1: at the later one
+            j = int(f) + 1
+            events.append(BranchEvent(float(q[j, 0]), j, k, s.joint, "mode flip", 0.0, "flipped"))
         if first is not None and not flipped:
             sine = masked_sine(*first.diag[k])
         else:
@@ -226,6 +269,9 @@ def track_branches(
             if nxt is None:
                 break
             cand, after, singular = nxt
+            if flips.size and np.abs(flips + 0.5 - cand).min() <= 2:
+                i = after + 1  # the dip of a flip: reported above
+                continue
             if singular:
                 smin, qstar, kind = 0.0, float(q[cand, 0]), "singular frame"
             else:
@@ -256,6 +302,8 @@ def track_branches(
             if _near_event(events, k, e):
                 continue
             a, b = (e, e + 1) if ok[e] else (e + 1, e)
+            if closed is not None and k in inside and closed[a] != closed[b]:
+                continue  # the closure stops here: one event for its group, below
             if switchable:
                 qb = _boundary(model, q[a], q[b], _modes_at(K, a), k)
             elif t is not None and np.isfinite(t[a]).all():
@@ -263,8 +311,115 @@ def track_branches(
             else:
                 qb = float(q[a, 0])
             events.append(BranchEvent(qb, int(a), k, s.joint, "dead point", 0.0, "kept"))
+    if closed is not None and t is not None:
+        events += _closure_limits(model, q, t, closed, K, stops)
+    _sines_of_flips(events, K, first)
     events.sort(key=lambda e: (e.frame, e.step))
     return K, events
+
+
+def _sines_of_flips(events: list[BranchEvent], K: FrameModes, ev: Evaluation | None) -> None:
+    """Each mode flip's |sine| at its frame, from ``ev`` (in place)."""
+    if ev is None:
+        return
+    for n, e in enumerate(events):
+        if e.kind == "mode flip" and e.step in ev.diag:
+            sine = float(abs(ev.diag[e.step][1][e.frame]))
+            events[n] = dataclasses.replace(e, sine=sine)
+
+
+def _closure_dependent(model: KinematicModel) -> frozenset[int]:
+    """Steps that depend on a closure unknown (they have no value where it does not close)."""
+    steps = model.plan.steps
+    assumed = {k for k, s in enumerate(steps) if s.kind in ("assume", "assume-slide")}
+    return frozenset(
+        k for k in range(len(steps)) if assumed.intersection(model.step_dependencies[k])
+    )
+
+
+def _stop_between(
+    model: KinematicModel,
+    stops: Sequence[tuple[FloatArray, FloatArray, Modes | None]],
+    a: FloatArray,
+    b: FloatArray,
+) -> tuple[FloatArray, FloatArray, Modes | None] | None:
+    """The stop whose driver values lie between frames ``a`` and ``b`` (a revolute
+    driver's angle taken modulo 2π), moved onto their turn; None if none does."""
+    turns = np.array([model.mechanism.joint(d).kind == "R" for d in model.drivers])
+    for qs, ts, Ks in stops:
+        d = qs - a
+        d[turns] -= 2 * np.pi * np.round(d[turns] / (2 * np.pi))
+        span = b - a
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.where(span != 0, d / span, 0.0)
+        moving = u[span != 0]
+        one_point = moving.size == 0 or float(moving.max() - moving.min()) <= 1e-9
+        if bool(np.all((u >= 0) & (u <= 1))) and one_point:
+            return a + d, ts, Ks
+    return None
+
+
+#: the smallest singular value of the mechanism's Jacobian (drivers fixed, relative to
+#: the largest) below which a closure's limit is a dead point of the mechanism
+GROUP_SINGULAR = 1e-4
+
+
+def _closure_limits(
+    model: KinematicModel,
+    q: FloatArray,
+    t: FloatArray,
+    closed: BoolArray,
+    K: FrameModes,
+    stops: Sequence[tuple[FloatArray, FloatArray, Modes | None]] = (),
+) -> list[BranchEvent]:
+    """One event where the closure stops between two frames: the closure group's limit.
+
+    The limit is bisected on whether Newton, from the last closed point, still closes;
+    there the mechanism's Jacobian with the drivers fixed (every joint constraint, in
+    link coordinates) gives its smallest singular value: a dead point (input limit of
+    the group) where it vanishes, else the closure's stop is named as such.
+    """
+    from mjstruct.kinematics.closure import newton
+    from mjstruct.kinematics.jacobian import constraint_jacobian, one_blas_thread
+
+    steps, m = model.plan.steps, model.mechanism
+    links = {
+        x for k in _closure_dependent(model) for x in steps[k].links if not steps[k].is_closure
+    }
+    group = tuple(j.id for j in m.joints if any(x in links for x in j.links))
+    out = []
+    for edge in np.flatnonzero(closed[:-1] != closed[1:]):
+        e = int(edge)
+        a, b = (e, e + 1) if closed[e] else (e + 1, e)
+        Ka: Modes = _modes_at(K, a)
+        lo, hi, ta = q[a].copy(), q[b].copy(), t[a].copy()
+        near = _stop_between(model, stops, q[a], q[b])
+        if near is not None:
+            lo, ta, Ks = near
+            Ka = {**Ka, **{kk: int(np.asarray(v).ravel()[0]) for kk, v in (Ks or {}).items()}}
+        for _ in range(CLOSURE_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            tn, _, _, okn = newton(
+                model, mid[None, :], ta[None, :], Ka, maxiter=CLOSURE_ITERATIONS
+            )
+            if okn[0]:
+                lo, ta = mid, tn[0]
+            else:
+                hi = mid
+        ev = evaluate(model, lo[None, :], order=0, t=ta[None, :], K=Ka)
+        J, D = constraint_jacobian(m, model.geometry, ev.poses, model.drivers)
+        A = np.concatenate([J[0], D[0]])
+        # a step placed after the group that stops assembling there too: no Jacobian,
+        # its own dead point
+        smin = 0.0
+        if np.isfinite(A).all():
+            with one_blas_thread():  # a small matrix: threads only wait
+                sv = np.linalg.svd(A, compute_uv=False)
+            smin = float(sv[-1] / sv[0]) if sv[0] > 0 else 0.0
+        kind = "dead point" if smin < GROUP_SINGULAR else "closure stop"
+        first = min(k for k in _closure_dependent(model))
+        out.append(BranchEvent(float(lo[0]), a, first, "", kind, smin, "kept", group))
+    return out
 
 
 def _next_candidate(sine: FloatArray, ok: BoolArray, start: int) -> tuple[int, int, bool] | None:

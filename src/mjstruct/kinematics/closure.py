@@ -50,13 +50,14 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from mjstruct.kinematics.closure_continuation import continue_stations, station_curvature
+from mjstruct.kinematics.closure_modes import ModeFlips, inner_mode_steps, reference_modes
 from mjstruct.kinematics.closure_newton import (
     closing_steps,
     closure_jacobian,
@@ -113,6 +114,14 @@ class Closure:
     jumps: tuple[int, ...] = ()
     #: frames closed by continuation from the reference the other way (past a gap)
     reseeded: tuple[int, ...] = ()
+    #: assembly mode (±1) per frame of each dyad inside a closure group (step index ->
+    #: frames): an inner dyad's mode flips where it passes its own dead point while the
+    #: group passes smoothly
+    modes: dict[int, npt.NDArray[np.int8]] = field(default_factory=dict)
+    #: where continuations from the reference stopped: the last station before each
+    #: edge (driver values, unknowns, modes there); the closure group's limit lies
+    #: within 1e-4 beyond it
+    stops: tuple[tuple[FloatArray, FloatArray, Modes | None], ...] = ()
 
 
 def close(
@@ -154,11 +163,19 @@ def close(
     # 1. continuation along the path reference -> frame 0 -> ... -> last frame
     path = ClosurePath(q_ref, q)
     tight = min(tol, STATION_TOL)  # stations are few: always close them tightly
-    S, TT, DD, D0, gap = continue_stations(model, path, K, tight, maxiter, only)
+    inner = inner_mode_steps(model, only)
+    flips = ModeFlips(reference_modes(model, inner)) if inner else None
+    S, TT, DD, D0, gap = continue_stations(model, path, K, tight, maxiter, only, flips)
     dir0 = path.directions(np.zeros(1))[0]
+    # 2. the frames' modes: the inner dyads' flips met by the stations
+    K0, F = K, q.shape[0]
+    framed: dict[int, npt.NDArray[np.int8]] | None = None
+    if flips:
+        framed = _frame_modes(model, flips.modes(K, path.arc[1:], np.arange(F)), inner, F)
+        K = framed
     # 3. Hermite guess on every frame from the stations that closed (quintic, with the
     # stations' t'', along a single run), then Newton on the frames the stations reached
-    DD2 = station_curvature(model, path, S, TT, DD, K, only)
+    DD2 = station_curvature(model, path, S, TT, DD, K0, only, flips)
     guess = hermite(S, TT, DD, path.arc[1:], DD2)
     reached = path.arc[1:] < gap
     # (Newton's rounds from the second also give dt/dτ: t' costs no evaluation more)
@@ -168,7 +185,7 @@ def close(
             model, q, guess, K, tol, maxiter, only, rate
         )
     else:
-        F, r = q.shape[0], np.flatnonzero(reached)
+        r = np.flatnonzero(reached)
         t, err, ok = np.full((F, k), np.nan), np.full(F, np.nan), np.zeros(F, bool)
         J = np.full((F, model.plan.equations, k), np.nan)
         t1 = np.full((F, k), np.nan)
@@ -191,11 +208,37 @@ def close(
             )
             assert Rd is not None
             t1[fixed] = -solve_stacked(J[fixed], Rd)
+    if flips and not ok[:n].all():
+        # a frame next to a flip whose arc the two stations' sines place on the wrong
+        # side: the other mode
+        K = _flip_side(
+            model,
+            q,
+            S,
+            path.arc[1:],
+            flips,
+            K,
+            guess,
+            t,
+            err,
+            ok,
+            J,
+            t1,
+            n,
+            tol,
+            maxiter,
+            rate,
+            only,
+        )
     t2 = curvature(model, q, t, t1, rate, K, J, only) if order >= 2 else np.full_like(t, np.nan)
     # 4. the reference configuration closes by construction (every unknown 0), and
     # frames the path from frame 0 did not reach are sought from the reference again
     at_ref = np.flatnonzero(~ok & (np.abs(q - q_ref).max(axis=1) == 0))
     if at_ref.size:
+        if framed is not None:
+            # the reference configuration itself: the reference's modes
+            for kk, v in _frame_modes(model, K0, inner, F).items():
+                framed[kk][at_ref] = v[at_ref]
         R0, _, _ = closure_jets(
             model, q[at_ref], np.zeros((at_ref.size, k)), subset_modes(K, at_ref), None, only
         )
@@ -206,19 +249,85 @@ def close(
             r = at_ref[ok[at_ref]]
             t1[r], t2[r] = derivatives(model, q[r], t[r], rate, subset_modes(K, r), order)
     reseeded: tuple[int, ...] = ()
+    more: list[tuple[FloatArray, FloatArray, Modes | None]] = []
     if reseed and not ok.all():
         # where the path's first run from the reference met the edge, continuing from
         # the reference along that ray again would only meet it again
-        edge = (dir0, gap) if K is None and gap <= path.run_end(0.0) else None
-        reseeded = _reseed(model, q, rate, K, tol, maxiter, t, t1, t2, err, ok, order, edge)
+        edge = (dir0, gap) if K0 is None and gap <= path.run_end(0.0) else None
+        K = _frame_modes(model, K, inner, F)
+        reseeded = _reseed(
+            model, q, rate, K0, tol, maxiter, t, t1, t2, err, ok, order, edge, K, more
+        )
     if q.shape[1] == 1 and D0 is not None and dir0[0] != 0:
         d0 = D0 * (rate[0] / dir0[0])  # the tangent is linear in the driver rates
     else:
         d0 = tangent(
-            model, q_ref[None, :], np.zeros((1, k)), subset_modes(K, np.array([0])), rate
+            model, q_ref[None, :], np.zeros((1, k)), subset_modes(K0, np.array([0])), rate
         )[0]
     jumps = branch_jumps(q, q_ref, t, t1, d0, ok, rate)
-    return Closure(t, t1, t2, err, iters, ok, tol, jumps, reseeded)
+    modes = _frame_modes(model, K, inner, F)
+    stops = [] if flips is None or flips.stop is None else [flips.stop]
+    return Closure(t, t1, t2, err, iters, ok, tol, jumps, reseeded, modes, tuple(stops + more))
+
+
+def _frame_modes(
+    model: KinematicModel, K: Modes | None, inner: tuple[int, ...], frames: int
+) -> dict[int, npt.NDArray[np.int8]]:
+    """Each inner dyad's mode on every frame (``K``'s, else the reference's)."""
+    refs = reference_modes(model, inner)
+    out: dict[int, npt.NDArray[np.int8]] = {}
+    for k in inner:
+        v = refs[k] if K is None or k not in K else K[k]
+        out[k] = np.array(np.broadcast_to(np.asarray(v, dtype=np.int8), (frames,)))
+    return out
+
+
+def _flip_side(
+    model: KinematicModel,
+    q: FloatArray,
+    S: FloatArray,
+    arc: FloatArray,
+    flips: ModeFlips,
+    K: Modes | None,
+    guess: FloatArray,
+    t: FloatArray,
+    err: FloatArray,
+    ok: BoolArray,
+    J: FloatArray,
+    t1: FloatArray,
+    n: int,
+    tol: float,
+    maxiter: int,
+    rate: FloatArray,
+    only: tuple[int, ...] | None,
+) -> dict[int, npt.NDArray[np.int8]]:
+    """Frames Newton missed between the two stations around a flip, tried with that
+    dyad's other mode (kept where Newton closes near the Hermite guess).
+
+    Fills ``t``, ``err``, ``ok``, ``J`` and ``t1`` in place; returns the frames' modes.
+    """
+    modes = _frame_modes(model, K, tuple(flips.reference), q.shape[0])
+    for a, k in zip(flips.arcs, flips.steps, strict=True):
+        j = int(np.searchsorted(S, a))
+        lo, hi = S[max(j - 1, 0)], S[min(j, S.size - 1)]
+        idx = np.flatnonzero(~ok[:n] & (arc[:n] >= lo) & (arc[:n] <= hi))
+        if idx.size == 0:
+            continue
+        trial = {kk: v[idx].copy() for kk, v in modes.items()}
+        trial[k] = -trial[k]
+        tn, en, _, okn = newton(model, q[idx], guess[idx], trial, tol, maxiter)
+        near = np.abs(tn - guess[idx]).max(axis=1) <= 1e-3
+        good = okn & near
+        if not good.any():
+            continue
+        f = idx[good]
+        modes[k][f] = trial[k][good]
+        t[f], err[f], ok[f] = tn[good], en[good], True
+        sub = {kk: v[f] for kk, v in modes.items()}
+        _, J[f], Rd = closure_jets(model, q[f], t[f], sub, rate, only)
+        assert Rd is not None
+        t1[f] = -solve_stacked(J[f], Rd)
+    return modes
 
 
 def _reseed(
@@ -235,6 +344,8 @@ def _reseed(
     ok: BoolArray,
     order: int = 2,
     edge: tuple[FloatArray, float] | None = None,
+    modes: dict[int, npt.NDArray[np.int8]] | None = None,
+    stops: list[tuple[FloatArray, FloatArray, Modes | None]] | None = None,
 ) -> tuple[int, ...]:
     """Continue from the reference again to the frames the path did not reach.
 
@@ -283,6 +394,11 @@ def _reseed(
         fr = frames[got]
         t[fr], t1[fr], t2[fr], err[fr] = sol.t[got], sol.t1[got], sol.t2[got], sol.error[got]
         ok[fr] = True
+        if modes is not None:
+            for kk, v in sol.modes.items():
+                modes[kk][fr] = v[got]
+        if stops is not None:
+            stops += sol.stops
         found += [int(i) for i in fr]
     return tuple(sorted(found))
 

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from mjstruct.kinematics.closure_modes import ModeFlips, inner_mode_steps, try_flip
 from mjstruct.kinematics.closure_newton import (
     closure_jets,
     newton_step,
@@ -85,6 +86,7 @@ def continue_stations(
     tol: float,
     maxiter: int,
     only: tuple[int, ...] | None,
+    flips: ModeFlips | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None, float]:
     """Stations along ``path`` from the reference: arc positions, unknowns and tangents.
 
@@ -105,12 +107,26 @@ def continue_stations(
     that is stuck (it does not assemble, cannot be halved or is still open after
     :data:`BLOCK_ROUNDS`) with nothing new known is sought alone by
     :func:`station_newton` (the step halving down to 1e-4 until it agrees; one that
-    does not close there ends the continuation).
+    does not close there ends the continuation), unless, given ``flips``, an inner
+    dyad at its own dead point flips its mode there and the stations go on
+    (:func:`~mjstruct.kinematics.closure_modes.try_flip`; the flips are added to
+    ``flips``, and every station beyond takes them).
     """
     k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
+    inner = () if flips is None else inner_mode_steps(model, only)
 
     def modes(sv: FloatArray) -> Modes | None:
+        if flips is not None:
+            return flips.modes(K, sv, path.frames_at(sv))
         return None if K is None else subset_modes(K, path.frames_at(sv))
+
+    def flipped(
+        sv: float, guess: FloatArray, Kf: Modes | None
+    ) -> tuple[FloatArray, FloatArray | None]:
+        s1 = np.array([sv])
+        dirn = path.directions(s1)[0]
+        iters = min(maxiter, STATION_ITERATIONS)
+        return station_newton(model, path.at(s1)[0], guess, Kf, tol, iters, only, dirn)
 
     def station(sv: float, guess: FloatArray) -> tuple[FloatArray, FloatArray | None]:
         s1 = np.array([sv])
@@ -232,8 +248,32 @@ def continue_stations(
         )
         if not fine and step <= 1e-4:
             # the edge of the feasible range: no station closes, or the one that does
-            # is not on the branch followed (across a fold, where the two meet)
-            return np.array(S), np.array(TT), np.array(DD), D0, s_new
+            # is not on the branch followed (across a fold, where the two meet); or an
+            # inner dyad at its own dead point, whose mode flips there
+            got = None
+            if flips is not None and inner:
+                got = try_flip(
+                    model,
+                    flips,
+                    inner,
+                    lambda sv: path.at(np.array([sv]))[0],
+                    lambda sv: modes(np.array([sv])),
+                    flipped,
+                    (S[-1], TT[-1], DD[-1]),
+                    path.next_turn(s_last),
+                    only,
+                )
+            if got is None:
+                if flips is not None:
+                    s_end = np.array([S[-1]])
+                    flips.stop = (path.at(s_end)[0], TT[-1], modes(s_end))
+                return np.array(S), np.array(TT), np.array(DD), D0, s_new
+            s_new, tn, Dn = got
+            S.append(s_new)
+            TT.append(tn)
+            DD.append(finite_or_zero(Dn))
+            step, alone, s_last = s_new - s_last, True, s_new
+            continue
         if fine and Dn is not None:
             S.append(s_new)
             TT.append(tn)
@@ -256,9 +296,10 @@ def station_curvature(
     DD: FloatArray,
     K: Modes | None,
     only: tuple[int, ...] | None,
+    flips: ModeFlips | None = None,
 ) -> FloatArray | None:
     """t'' at the stations, from one evaluation; None for one station, or off a single
-    run of a path of several drivers.
+    run of a path of several drivers (``flips``: the inner dyads' flips along it).
 
     Seeds t' = DD along the path (seed 0) and t' = e_j at rest (seed j) at order 2:
     seed 0 gives R'' at t'' = 0, and seed j's first derivative column j of dR/dt, so
@@ -276,6 +317,9 @@ def station_curvature(
         twin = np.flatnonzero(np.r_[False, S[1:] == S[:-1]])
         sign[twin] = [path.direction_after(float(S[i]))[0] * path.dirs[0, 0] for i in twin]
         DD = DD * sign[:, None]
-    K = None if K is None else subset_modes(K, path.frames_at(S))
+    if flips is not None:
+        K = flips.modes(K, S, path.frames_at(S))
+    else:
+        K = None if K is None else subset_modes(K, path.frames_at(S))
     _, (R1, R2) = seeded_jets(model, path.at(S), TT, K, only, path.dirs[0], DD, order=2)
     return finite_or_zero(-solve_stacked(R1[1:].transpose(1, 2, 0), R2[0]))

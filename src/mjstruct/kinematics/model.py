@@ -244,9 +244,13 @@ class KinematicModel:
                     f"closure did not converge to {tol:g} on {int(bad.sum())} frame(s) "
                     f"(first q = {qa[np.argmax(bad), 0]:.9g}); their values are null"
                 )
+        # the closure's inner dyads take its modes per frame (they flip where a dyad
+        # passes its own dead point inside the group)
+        K0 = None if sol is None or not sol.modes else sol.modes
         with np.errstate(all="ignore"):
-            ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2)
-            K, events = track_branches(self, qa, t, first=ev)
+            ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K0)
+            stops = () if sol is None else sol.stops
+            K, events = track_branches(self, qa, t, first=ev, modes=K0, stops=stops)
             if any(e.action == "switched" for e in events):
                 ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K)
         valid = _finite_frames(ev, qa.shape[0])
