@@ -15,7 +15,10 @@ gives the same unknown (the rotation of link 2 from the reference) with t' and t
 Both are timed side by side in one run (``timing.race``), on a full turn of the crank
 and on a rocking input (from the reference back to -1 rad, then to +1 rad: the path
 turns once); the agreement of ψ with the plug-in's unknown is printed, and the number
-of ``evaluate()`` calls of the plug-in.
+of ``evaluate()`` calls of the plug-in.  Then the default kinematics call on the
+example (``kinematic_analysis(mechanism, frames=N)``: planning, closure, evaluation,
+branches, result and checks) and its parts are raced against the same hand-written
+Newton.
 
 Run: ``python benchmarks/bench_closure.py [--frames N] [--repeat N]``.
 """
@@ -35,6 +38,7 @@ from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics import closure, closure_newton
 from mjstruct.kinematics.model import KinematicModel
+from mjstruct.kinematics.solver import kinematic_analysis
 from timing import race
 
 Arr = npt.NDArray[np.float64]
@@ -139,6 +143,7 @@ def main() -> None:
     model = KinematicModel.build(read_mechanism(example_path("class-iv-seed003")))
     mech = ClassIV()
     compare("full turn", model, mech, model.sweep(args.frames), args.repeat)
+    default_call(model, mech, args.frames, args.repeat)
     # a rocking input: the path goes from the reference back to -1 rad, turns, and
     # sweeps to +1 rad (the continuation's stations meet one turn of the path)
     rocking = model.q_ref + np.linspace(-1.0, 1.0, args.frames)[:, None]
@@ -183,6 +188,34 @@ def compare(label: str, model: KinematicModel, mech: ClassIV, q: Arr, repeat: in
         f"  agreement: max |ψ - t| {agree:.1e}, max |ψ' - t'| {agree1:.1e}; "
         f"plug-in evaluate() calls {calls[0]}, Newton rounds on all frames {sol.iterations}"
     )
+
+
+def default_call(model: KinematicModel, mech: ClassIV, frames: int, repeat: int) -> None:
+    """Race the default kinematics call on the class-IV example (a full turn in ``frames``
+    frames, as a user calls it) and its parts against the hand-written Newton; print."""
+    mechanism = model.mechanism
+    q = model.sweep(frames)
+    qv = q[:, 0] - model.q_ref[0]
+    t_hand, t_close, t_motion, t_model, t_default = race(
+        [
+            lambda: hand_written(mech, qv),
+            lambda: closure.close(model, q),
+            lambda: model.motion(q),
+            lambda: kinematic_analysis(model, frames=frames),
+            lambda: kinematic_analysis(mechanism, frames=frames),
+        ],
+        repeat,
+    )
+    print(f"class-IV example, default call, {frames} frames (median of {repeat}, raced)")
+    rows = (
+        ("hand-written batched Newton (ψ, ψ')", t_hand, ""),
+        ("closure.close (t, t', t'')", t_close, ""),
+        ("model.motion (closure, evaluation, branches)", t_motion, ""),
+        ("kinematic_analysis(model) (plus result, checks)", t_model, ""),
+        ("kinematic_analysis(mechanism), the default call", t_default, "   (target within 2x)"),
+    )
+    for name, t, note in rows:
+        print(f"  {name:<48} {t * 1e3:7.2f} ms  {t / t_hand:5.2f}x{note}")
 
 
 if __name__ == "__main__":

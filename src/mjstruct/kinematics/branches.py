@@ -418,7 +418,8 @@ def _closure_limits(
             smin = float(sv[-1] / sv[0]) if sv[0] > 0 else 0.0
         kind = "dead point" if smin < GROUP_SINGULAR else "closure stop"
         first = min(k for k in _closure_dependent(model))
-        out.append(BranchEvent(float(lo[0]), a, first, "", kind, smin, "kept", group))
+        joints = ", ".join(group)
+        out.append(BranchEvent(float(lo[0]), a, first, joints, kind, smin, "kept", group))
     return out
 
 

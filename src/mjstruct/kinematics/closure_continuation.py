@@ -73,6 +73,9 @@ WINDOW_STEP = 0.125
 #: about the step, ~1e-7 at most): stations only guide the frames' own Newton
 PREDICTED = 1e-2
 NEAR = 1e-8
+#: the smallest step of the first station beyond the reference (elsewhere 1e-4 ends
+#: the continuation: the edge of the feasible range)
+FIRST_STEP = 1e-12
 #: Newton iterations of a station sought alone: from the cubic through the last two it
 #: converges in a few, and one that does not is tried again from half the step (near
 #: the edge of the feasible range a full maxiter per try made a sweep take seconds)
@@ -246,7 +249,10 @@ def continue_stations(
         fine = Dn is not None and bool(
             agreement(TT[-1][None], DD[-1][None], tn[None], Dn[None], np.array([ds1]))[0]
         )
-        if not fine and step <= 1e-4:
+        # at the reference itself the step halves much further: a reference next to a
+        # fold (the unknowns grow like the root of the distance to it) is left in steps
+        # that double from about that distance
+        if not fine and step <= (1e-4 if s_last > 0 else FIRST_STEP):
             # the edge of the feasible range: no station closes, or the one that does
             # is not on the branch followed (across a fold, where the two meet); or an
             # inner dyad at its own dead point, whose mode flips there
