@@ -55,7 +55,7 @@ import math
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Joint, Mechanism, Point
@@ -89,32 +89,37 @@ class PyslvsJoint:
     links: tuple[str, ...]
 
 
-@dataclass(frozen=True)
-class _Token:
+class _Token(NamedTuple):
     kind: str
     text: str
     line: int
     column: int
 
 
+_SKIPPED = frozenset({"space", "block_comment", "comment"})
+
+
 def _tokens(text: str, source: str) -> list[_Token]:
     out: list[_Token] = []
     pos, line, line_start = 0, 1, 0
-    while pos < len(text):
-        match = _TOKEN.match(text, pos)
-        if match is None:
-            raise MechanismError(
-                f"{source}: line {line} column {pos - line_start + 1}: "
-                f"unexpected character {text[pos]!r}"
-            )
+    # one regex scan; a gap between matches is a character no token starts with
+    for match in _TOKEN.finditer(text):
+        if match.start() != pos:
+            break
         kind = match.lastgroup or ""
-        if kind not in ("space", "block_comment", "comment"):
+        if kind not in _SKIPPED:
             out.append(_Token(kind, match.group(), line, pos - line_start + 1))
-        newlines = match.group().count("\n")
-        if newlines:
-            line += newlines
-            line_start = match.start() + match.group().rindex("\n") + 1
         pos = match.end()
+        if kind != "word" and kind != "punct" and kind != "number":
+            newlines = match.group().count("\n")  # only spaces and comments span lines
+            if newlines:
+                line += newlines
+                line_start = match.start() + match.group().rindex("\n") + 1
+    if pos < len(text):
+        raise MechanismError(
+            f"{source}: line {line} column {pos - line_start + 1}: "
+            f"unexpected character {text[pos]!r}"
+        )
     return out
 
 

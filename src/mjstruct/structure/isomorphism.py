@@ -7,6 +7,20 @@ colour-class sizes and a SHA-256 digest of nauty's certificate, so two files get
 same code exactly when their coloured graphs are isomorphic (up to a 128-bit digest
 collision).
 
+Parallel joints are a multiplicity, not a search problem.  Joints that join the same
+links (or links in the same joints), in one colour class, are *twins*: any permutation
+of them is an automorphism, and nauty's search over thousands of them takes minutes
+(3000 joints between two links: over 120 s).  In a graph of :data:`QUOTIENT_VERTICES`
+vertices or more where some class of twins has :data:`TWINS_QUOTIENT` or more
+members, each class is replaced by one vertex coloured by its size; two graphs are
+isomorphic exactly when these quotients are (twins map to twins), so the code stays
+exact.  The rule depends only on the graph, so isomorphic chains always take the same
+path; smaller chains (every catalog and atlas chain) keep their codes.
+
+nauty runs in C and holds the interpreter: a large graph (:data:`WORKER_VERTICES`
+vertices or more) is put in canonical form in a worker process, so that Ctrl-C and
+SIGTERM stop the command at once (the worker is killed).
+
 References
 ----------
 .. [1] B. D. McKay, A. Piperno, "Practical graph isomorphism, II", Journal of
@@ -28,7 +42,7 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Collection, Sequence
-from typing import Literal
+from typing import Any, Literal
 
 import pynauty
 
@@ -110,18 +124,178 @@ def link_joint_lists(m: Mechanism) -> list[list[int]]:
     return [[link_ix[x] for x in j.links] for j in m.joints]
 
 
+#: a class of this many twins (parallel joints, or links in the same joints) or more
+#: puts the graph in nauty's form as its quotient by twins ...
+TWINS_QUOTIENT = 3
+#: ... in a graph of this many vertices or more (below, nauty takes microseconds and
+#: the codes of small chains, the atlases' among them, stay as they were)
+QUOTIENT_VERTICES = 64
+#: graphs with this many vertices (links + joints) or more go to nauty in a worker
+#: process (about 2 ms to start; nauty takes milliseconds below, but may take minutes
+#: on a large symmetric graph, during which the interpreter receives no signal)
+WORKER_VERTICES = 2000
+
+
+def twin_quotient(
+    n: int, joints: Sequence[Sequence[int]], colours: Sequence[Collection[int]]
+) -> tuple[int, list[list[int]], list[list[int]], str] | None:
+    """The graph with each class of twins as one vertex coloured by the class's size.
+
+    Twins: links with the same set of joints, or joints with the same set of links,
+    in the same colour class.  Returns ``(n, joints, colours, sizes)`` of the quotient
+    (``sizes`` names its colour classes: original class, multiplicity and count), or
+    None when no class has :data:`TWINS_QUOTIENT` members.
+
+    Five joints between links 0 and 1 (the two links are twins too):
+
+    >>> twin_quotient(2, [[0, 1]] * 5, [[0, 1], range(2, 7)])
+    (1, [[0]], [[0], [1]], 'q0x2:1.1x5:1')
+    """
+    p = len(joints)
+    colour_of = [0] * (n + p)
+    for c, members in enumerate(colours):
+        for v in members:
+            colour_of[v] = c
+    at: list[list[int]] = [[] for _ in range(n)]
+    for k, js in enumerate(joints):
+        for x in js:
+            at[x].append(n + k)
+    keys = [(colour_of[x], frozenset(at[x])) for x in range(n)]
+    keys += [(colour_of[n + k], frozenset(js)) for k, js in enumerate(joints)]
+    first: dict[tuple[int, frozenset[int]], int] = {}
+    count: dict[int, int] = {}
+    for v, key in enumerate(keys):
+        rep = first.setdefault(key, v)
+        count[rep] = count.get(rep, 0) + 1
+    if max(count.values()) < TWINS_QUOTIENT:
+        return None
+    reps = sorted(count)  # links before joints, each in file order
+    link_reps = [v for v in reps if v < n]
+    new = {v: i for i, v in enumerate(link_reps)}
+    q_joints = [sorted({new[first[keys[x]]] for x in joints[v - n]}) for v in reps if v >= n]
+    position = {v: i for i, v in enumerate(reps)}
+    classes: dict[tuple[int, int], list[int]] = {}
+    for v in reps:
+        classes.setdefault((colour_of[v], count[v]), []).append(position[v])
+    order = sorted(classes)
+    sizes = "q" + ".".join(f"{c}x{mult}:{len(classes[c, mult])}" for c, mult in order)
+    return len(link_reps), q_joints, [classes[key] for key in order], sizes
+
+
 def canonical_code(m: Mechanism, level: Level = "chain") -> str:
     """Stable string identifying ``m`` up to isomorphism at the given colour level.
 
     ``"chain"``: links and joints only (what structural synthesis and the catalogs
-    use); ``"kinds"``: also R/P; ``"mechanism"``: also frame and drivers.
+    use); ``"kinds"``: also R/P; ``"mechanism"``: also frame and drivers.  Thousands of
+    parallel joints cost what one does (:func:`twin_quotient`).
+
+    >>> parallel = Mechanism.build([(f"J{k}", [0, 1]) for k in range(3000)])
+    >>> canonical_code(parallel)
+    'c2.3000-8ac0051af4bbf08a64cd48896656400b'
     """
     expect_mechanism(m)
     classes = colour_classes(m, level)
-    g = nauty_graph(len(m.links), link_joint_lists(m), classes)
-    sizes = ".".join(str(len(c)) for c in classes)
+    sizes, cert = certificate_of(len(m.links), link_joint_lists(m), classes)
     prefix = {"chain": "c", "kinds": "k", "mechanism": "m"}[level]
-    return code_of(prefix, len(m.links), len(m.joints), sizes, pynauty.certificate(g))
+    return code_of(prefix, len(m.links), len(m.joints), sizes, cert)
+
+
+def certificate_of(
+    n: int, joints: Sequence[Sequence[int]], colours: Sequence[Collection[int]]
+) -> tuple[str, bytes]:
+    """The colour-class sizes and nauty's certificate behind a canonical code: of the
+    twin quotient where the rule applies (see the module text), in a worker process
+    for a large graph.
+
+    >>> sizes, cert = certificate_of(3, [[0, 1], [1, 2], [2, 0]], [range(3), range(3, 6)])
+    >>> sizes, len(cert)
+    ('3.3', 48)
+    """
+    sizes = ".".join(str(len(c)) for c in colours)
+    if n + len(joints) >= QUOTIENT_VERTICES:
+        quotient = twin_quotient(n, joints, colours)
+        if quotient is not None:
+            n, joints, colours, sizes = quotient
+    cert = nauty_call("certificate", n, joints, colours)
+    assert isinstance(cert, bytes)
+    return sizes, cert
+
+
+def nauty_call(
+    what: Literal["certificate", "canon_label"],
+    n: int,
+    joints: Sequence[Sequence[int]],
+    colours: Sequence[Collection[int]] | None = None,
+) -> bytes | list[int]:
+    """``pynauty.certificate`` or ``pynauty.canon_label`` of :func:`nauty_graph`, in a
+    worker process for a graph of :data:`WORKER_VERTICES` vertices or more (so a
+    signal stops it at once), else here.
+
+    >>> nauty_call("canon_label", 3, [[0, 1], [1, 2]])
+    [0, 2, 1, 3, 4]
+    """
+    args = (
+        what,
+        n,
+        [list(j) for j in joints],
+        None if colours is None else [list(c) for c in colours],
+    )
+    if n + len(joints) < WORKER_VERTICES or not _may_fork():
+        return _nauty(*args)
+    return _in_worker(args)
+
+
+def _nauty(
+    what: str, n: int, joints: list[list[int]], colours: list[list[int]] | None
+) -> bytes | list[int]:
+    g = nauty_graph(n, joints, colours)
+    out: bytes | list[int] = getattr(pynauty, what)(g)
+    return out
+
+
+def _may_fork() -> bool:
+    """A worker can be started: not inside a daemon worker (a pool's), on the main
+    thread (where signals arrive)."""
+    import multiprocessing
+    import threading
+
+    return (
+        not multiprocessing.current_process().daemon
+        and threading.current_thread() is threading.main_thread()
+    )
+
+
+def _worker(send: Any, args: tuple[Any, ...]) -> None:
+    import signal
+
+    # the parent decides: a signal to the group must not make the worker raise
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    send.send(_nauty(*args))
+    send.close()
+
+
+def _in_worker(args: tuple[Any, ...]) -> bytes | list[int]:
+    """Run :func:`_nauty` in a child process; the parent waits where signals arrive
+    and kills the child on any exception (Ctrl-C, SIGTERM)."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+    child = ctx.Process(target=_worker, args=(send, args), daemon=True)
+    child.start()
+    send.close()
+    try:
+        # a blocking receive is interrupted by a signal, whose handler raises here
+        out: bytes | list[int] = recv.recv()
+        return out
+    except EOFError:
+        raise RuntimeError(f"nauty worker ended with status {child.exitcode}") from None
+    finally:
+        recv.close()
+        if child.is_alive():
+            child.kill()
+        child.join()
 
 
 def is_isomorphic(a: Mechanism, b: Mechanism, level: Level = "chain") -> bool:

@@ -18,6 +18,14 @@ planar embeddings with different face sizes.  Rule, in order:
 
 A non-planar chain has no [L]: :func:`loop_assortment` returns ``None``.
 
+Parallel joints (k joints joining the same two links; likewise k binary links in the
+same two joints) count as one: the minimal drawing puts them side by side, making
+k − 1 loops of two links, and the rest of the chain sees one joint.  (Any drawing is
+the one-joint drawing with k − 1 joints added in its faces; each addition splits a
+face of s links into two of s1 + s2 = s + 2, and {s1, s2} is never lexicographically
+below {2, s}, so side by side is minimal.)  Thousands of parallel joints then cost
+what one does, where every rotation of them was a case before.
+
 References
 ----------
 .. [1] A paper on the system analysis of the structure and mobility of planar
@@ -142,23 +150,33 @@ def _minimal_faces(g: Adjacency) -> tuple[int, ...] | None:
     return best
 
 
-def _canonical_faces(m: Mechanism) -> tuple[int, ...] | None:
+def _canonical_faces(g: Adjacency | Mechanism) -> tuple[int, ...] | None:
+    """Face sizes of networkx's embedding of ``g`` (a mechanism's adjacency, or a part
+    of it) relabelled in nauty's canonical order; None if not planar."""
     import networkx as nx
-    import pynauty
 
-    from mjstruct.structure.isomorphism import link_joint_lists, nauty_graph
+    if isinstance(g, Mechanism):
+        g = g.adjacency
 
-    n = len(m.links)
-    joints = link_joint_lists(m)
-    adjacency = {n + k: js for k, js in enumerate(joints)}
-    n_nodes = n + len(joints)
-    pg = nauty_graph(n, joints)
-    order = pynauty.canon_label(pg)  # order[k] = original vertex placed k-th
+    from mjstruct.mechanism import LINK
+    from mjstruct.structure.isomorphism import nauty_call
+
+    nodes = list(g)
+    if not nx.check_planarity(nx.Graph([(u, v) for u in g for v in g[u]]))[0]:
+        return None  # before nauty: a large non-planar graph needs no canonical order
+    links = [v for v in nodes if v[0] == LINK]
+    joints = [v for v in nodes if v[0] != LINK]
+    index = {v: i for i, v in enumerate(links)}
+    index.update({v: len(links) + k for k, v in enumerate(joints)})
+    n = len(links)
+    lists = [[index[x] for x in g[j]] for j in joints]
+    order = nauty_call("canon_label", n, lists)  # order[k] = original vertex placed k-th
+    assert isinstance(order, list)
     rank = {v: k for k, v in enumerate(order)}
     cg = nx.Graph()
-    cg.add_nodes_from(range(n_nodes))
+    cg.add_nodes_from(range(len(nodes)))
     cg.add_edges_from(
-        sorted(tuple(sorted((rank[j], rank[x]))) for j, xs in adjacency.items() for x in xs)
+        sorted(tuple(sorted((rank[n + k], rank[x]))) for k, xs in enumerate(lists) for x in xs)
     )
     planar, emb = nx.check_planarity(cg)
     if not planar:
@@ -172,13 +190,45 @@ def _canonical_faces(m: Mechanism) -> tuple[int, ...] | None:
     return tuple(sorted(sizes))
 
 
+def without_parallel(g: Adjacency) -> tuple[dict[Any, tuple[Any, ...]], int]:
+    """``g`` with every class of parallel degree-2 vertices (joints joining the same two
+    links, binary links in the same two joints) kept once, and the number removed:
+    each is one more loop of two links in the minimal drawing.
+
+    >>> g = {"a": ("x", "y", "z"), "b": ("x", "y", "z"), "x": ("a", "b"),
+    ...      "y": ("a", "b"), "z": ("a", "b")}
+    >>> without_parallel(g)
+    ({'a': ('x',), 'b': ('x',), 'x': ('a', 'b')}, 2)
+    """
+    keep: dict[frozenset[Any], Any] = {}
+    dropped: set[Any] = set()
+    for v, around in g.items():
+        if len(around) == 2:
+            first = keep.setdefault(frozenset(around), v)
+            if first != v:
+                dropped.add(v)
+    if not dropped:
+        return dict(g), 0
+    out = {
+        v: tuple(x for x in around if x not in dropped)
+        for v, around in g.items()
+        if v not in dropped
+    }
+    return out, len(dropped)
+
+
 def loop_assortment(m: Mechanism) -> LoopAssortment | None:
     """[L] of a planar chain (see the module text for which drawing); None if not planar."""
     expect_mechanism(m)
+    g, digons = without_parallel(m.adjacency)
     try:
-        exact = _minimal_faces(m.adjacency)
+        exact = _minimal_faces(g)
     except _TooMany:
-        sizes = _canonical_faces(m)
-        return None if sizes is None else LoopAssortment(sizes, "canonical")
+        sizes = _canonical_faces(g)
+        if sizes is None:
+            return None
+        return LoopAssortment(tuple(sorted(sizes + (2,) * digons)), "canonical")
     # exhaustive: no genus-0 rotation system means the graph is not planar
-    return None if exact is None else LoopAssortment(exact, "minimal")
+    return (
+        None if exact is None else LoopAssortment(tuple(sorted(exact + (2,) * digons)), "minimal")
+    )

@@ -50,7 +50,12 @@ import pynauty
 
 from mjstruct.errors import MechanismError, expect_int
 from mjstruct.mechanism import Mechanism
-from mjstruct.structure.isomorphism import code_of, nauty_graph
+from mjstruct.structure.isomorphism import (
+    QUOTIENT_VERTICES,
+    certificate_of,
+    code_of,
+    nauty_graph,
+)
 from mjstruct.synthesis.contracted import (
     ContractedGraph,
     Vertex,
@@ -145,6 +150,9 @@ def chain_code(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, bytes, pyn
     """Canonical code (as ``canonical_code(m, "chain")``), certificate and nauty graph."""
     p = len(joints)
     g = nauty_graph(n, joints)
+    if n + p >= QUOTIENT_VERTICES:  # large: as canonical_code (twins, worker process)
+        sizes, cert = certificate_of(n, joints, [range(n), range(n, n + p)])
+        return code_of("c", n, p, sizes, cert), cert, g
     cert = pynauty.certificate(g)
     return code_of("c", n, p, f"{n}.{p}", cert), cert, g
 
