@@ -6,8 +6,13 @@
 * Watt six-bar (two four-bars in series), 3600 frames: the default call against a
   hand-written numpy closed form of both stages (chain rule for the analogs).
 * Class-IV mechanism, 3600 frames (Newton closure included): target < 0.2 s.
-* pylinkage, when importable (installed only in a benchmark environment): the same
-  four-bar sweep, positions only (what it computes).
+* pylinkage with numba, when importable (``pip install -e ".[bench]"``): its
+  compiled sweep with velocities and accelerations (``step_fast_with_kinematics``,
+  warm) on the same four-bar and Watt six-bar, raced beside the default call.
+
+Every row of one mechanism runs in one race (rotation, CPU time of the process,
+medians): the machine is shared, so only ratios measured together compare.  Goals:
+the default call within 1.6x of the closed form and faster than pylinkage.
 
 Run: ``python benchmarks/bench_kinematics.py [--repeat N]``; prints medians and ratios.
 """
@@ -16,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import time
 
 import numpy as np
 
@@ -26,7 +32,7 @@ from mjstruct.kinematics.geometry import read_geometry
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.kinematics.planner import plan_kinematics
 from mjstruct.kinematics.solver import kinematic_analysis
-from timing import median_time, race
+from timing import race
 
 FRAMES = 3600
 
@@ -110,6 +116,11 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=41)
     args = ap.parse_args()
     R = args.repeat
+    cpu = time.process_time
+    try:
+        import pylinkage as pl  # the optional ``bench`` extra
+    except ImportError:
+        pl = None
 
     m = read_mechanism(example_path("four-bar"))
     g = read_geometry(m)
@@ -128,19 +139,38 @@ def main() -> None:
         float(np.abs(Bk[1] - ref[2]).max()),
         float(np.abs(Bk[2] - ref[3]).max()),
     )
-
+    fns = [
+        lambda: four_bar_closed_form(q[:, 0], a, b, c, d, mode),
+        lambda: evaluate(model, q, order=2),
+        lambda: kinematic_analysis(model, frames=FRAMES, checks=False),
+        lambda: kinematic_analysis(m, frames=FRAMES),
+        lambda: kinematic_analysis(m, frames=FRAMES).checks,
+        lambda: kinematic_analysis(m, frames=FRAMES, checks="full").checks,
+        lambda: _read_all(kinematic_analysis(m, frames=FRAMES)),
+    ]
+    pl4 = None if pl is None else _pylinkage_four_bar(pl, m)
+    if pl4 is not None:
+        fns.append(pl4[0])
     # one race: the machine's load hits every variant alike
-    t_closed, t_eval, t_sweep, t_full, t_default, t_read = race(
-        [
-            lambda: four_bar_closed_form(q[:, 0], a, b, c, d, mode),
-            lambda: evaluate(model, q, order=2),
-            lambda: kinematic_analysis(model, frames=FRAMES, checks=False),
-            lambda: kinematic_analysis(m, frames=FRAMES, checks=False),
-            lambda: kinematic_analysis(m, frames=FRAMES),
-            lambda: kinematic_analysis(m, frames=FRAMES).checks,
-        ],
-        R,
-    )
+    t = race(fns, R, clock=cpu)
+    t_closed = t[0]
+
+    def row(label: str, tk: float, note: str = "") -> None:
+        print(f"  {label:<46} {tk * 1e3:8.3f} ms   {tk / t_closed:5.2f}x   {note}")
+
+    print(f"four-bar, {FRAMES} frames, positions + sigma + kappa (CPU time, median of {R})")
+    row("hand-written numpy closed form", t[0])
+    row("plug-in evaluate(plan)", t[1], f"(max |diff| to closed form {agree:.1e})")
+    row("analysis, model reused, no checks", t[2])
+    row("default call kinematic_analysis(mechanism)", t[3], "goal <= 1.60x")
+    row("default call, checks read", t[4])
+    row("checks='full' (Jacobian rank/det), read", t[5])
+    row("default call, every table read (stacked)", t[6])
+    if pl4 is not None:
+        row(f"pylinkage {pl.__version__} + numba, pos+vel+acc", t[7], f"(max |diff| {pl4[1]:.1e})")
+        print(f"  default call / pylinkage: {t[3] / t[7]:.2f} (goal < 1)")
+    else:
+        print("  pylinkage: not installed (pip install -e '.[bench]'): column skipped")
 
     mw = watt_mechanism()
     rw = kinematic_analysis(mw, frames=FRAMES)
@@ -152,119 +182,145 @@ def main() -> None:
         float(np.abs(jd["sx"] + 1j * jd["sy"] - D1w).max()),
         float(np.abs(jd["kx"] + 1j * jd["ky"] - D2w).max()),
     )
-    t_wclosed, t_wdefault, t_wfast, t_wread = race(
-        [
-            lambda: watt_closed_form(thw),
-            lambda: kinematic_analysis(mw, frames=FRAMES),
-            lambda: kinematic_analysis(mw, frames=FRAMES, checks=False),
-            lambda: kinematic_analysis(mw, frames=FRAMES).checks,
-        ],
-        R,
-    )
-
-    m4 = read_mechanism(example_path("class-iv-seed003"))
-    t_iv = median_time(
-        lambda: kinematic_analysis(m4, frames=FRAMES, checks=False), max(3, R // 3)
-    )[0]
-    t_iv_checks = median_time(lambda: kinematic_analysis(m4, frames=FRAMES), max(3, R // 3))[0]
-
-    print(f"four-bar, {FRAMES} frames, positions + sigma + kappa (median of {R})")
-    print(f"  hand-written numpy closed form       {t_closed * 1e3:8.3f} ms   1.00x")
-    print(
-        f"  plug-in evaluate(plan)                {t_eval * 1e3:8.3f} ms   "
-        f"{t_eval / t_closed:5.2f}x   (max |diff| to closed form {agree:.1e})"
-    )
-    print(
-        f"  plug-in analysis, model reused (branches) {t_sweep * 1e3:8.3f} ms   "
-        f"{t_sweep / t_closed:5.2f}x"
-    )
-    print(
-        f"  plug-in analysis (plan+branches)          {t_full * 1e3:8.3f} ms   "
-        f"{t_full / t_closed:5.2f}x"
-    )
-    print(
-        f"  default call (checks on)                  {t_default * 1e3:8.3f} ms   "
-        f"{t_default / t_closed:5.2f}x   (target within 3x)"
-    )
-    print(
-        f"  default call, every check read            {t_read * 1e3:8.3f} ms   "
-        f"{t_read / t_closed:5.2f}x   (link lengths, analogs computed on reading)"
-    )
+    fns = [
+        lambda: watt_closed_form(thw),
+        lambda: kinematic_analysis(mw, frames=FRAMES),
+        lambda: kinematic_analysis(mw, frames=FRAMES, checks=False),
+        lambda: kinematic_analysis(mw, frames=FRAMES).checks,
+        lambda: kinematic_analysis(mw, frames=FRAMES, checks="full").checks,
+    ]
+    plw = None if pl is None else _pylinkage_watt(pl, mw)
+    if plw is not None:
+        fns.append(plw[0])
+    t = race(fns, R, clock=cpu)
+    t_closed = t[0]
     print(
         f"Watt six-bar, {FRAMES} frames (max |diff| of D, sigma, kappa to closed form "
         f"{agree_w:.1e})"
     )
-    print(f"  hand-written numpy closed form       {t_wclosed * 1e3:8.3f} ms   1.00x")
-    print(
-        f"  default call (checks on)             {t_wdefault * 1e3:8.3f} ms   "
-        f"{t_wdefault / t_wclosed:5.2f}x"
-    )
-    print(
-        f"  checks off                           {t_wfast * 1e3:8.3f} ms   "
-        f"{t_wfast / t_wclosed:5.2f}x"
-    )
-    print(
-        f"  default call, every check read       {t_wread * 1e3:8.3f} ms   "
-        f"{t_wread / t_wclosed:5.2f}x"
+    row("hand-written numpy closed form", t[0])
+    row("default call", t[1], "goal <= 1.60x")
+    row("checks off", t[2])
+    row("default call, checks read", t[3])
+    row("checks='full', read", t[4])
+    if plw is not None:
+        row(f"pylinkage {pl.__version__} + numba, pos+vel+acc", t[5], f"(max |diff| {plw[1]:.1e})")
+        print(f"  default call / pylinkage: {t[1] / t[5]:.2f} (goal < 1)")
+
+    m4 = read_mechanism(example_path("class-iv-seed003"))
+    t_iv, t_iv_checks = race(
+        [
+            lambda: kinematic_analysis(m4, frames=FRAMES, checks=False),
+            lambda: kinematic_analysis(m4, frames=FRAMES),
+        ],
+        max(3, R // 3),
+        clock=cpu,
     )
     print(f"class-IV mechanism, {FRAMES} frames, Newton closure")
     print(f"  analysis without checks  {t_iv * 1e3:8.3f} ms   (target < 200 ms)")
-    print(f"  analysis with checks            {t_iv_checks * 1e3:8.3f} ms")
-
-    try:
-        import pylinkage as pl  # only in a benchmark environment
-    except ImportError:
-        print("pylinkage: not installed here (pip install pylinkage in a benchmark venv)")
-        return
-    got = _pylinkage_four_bar(pl, a, b, c, d, A0, B0, R)
-    if got is None:
-        print(f"pylinkage {getattr(pl, '__version__', '?')}: API not recognised, not timed")
-        return
-    t_pl, diff = got
-    t_pos = median_time(lambda: evaluate(model, q, order=0), R)[0]
-    print(
-        f"pylinkage {getattr(pl, '__version__', '?')}, same four-bar, positions only "
-        f"(max |B - ours| {diff:.1e})"
-    )
-    print(f"  pylinkage Linkage.step() x {FRAMES}      {t_pl * 1e3:8.3f} ms")
-    print(
-        f"  plug-in evaluate(order=0)             {t_pos * 1e3:8.3f} ms   "
-        f"pylinkage / plug-in = {t_pl / t_pos:.1f}"
-    )
+    print(f"  default call             {t_iv_checks * 1e3:8.3f} ms")
 
 
-def _pylinkage_four_bar(pl, a, b, c, d, A0, B0, R) -> tuple[float, float] | None:
-    """Time pylinkage (1.3 API) on the same sweep; (time, max |B - ours|) or None."""
-    th0 = math.atan2(A0.imag, A0.real)
-    try:
-        O1, O2 = pl.Ground(0.0, 0.0, name="O1"), pl.Ground(d, 0.0, name="O2")
-        crank = pl.Crank(
-            anchor=O1, radius=a, angular_velocity=2 * math.pi / FRAMES, initial_angle=th0
+def _read_all(r) -> None:  # type: ignore[no-untyped-def]
+    """Every table of a result made (stacked), as the JSON object or the table reads them."""
+    for table in (r.joints, r.points, r.links):
+        table.stacks()
+
+
+def _pylinkage_sweep(pl, linkage, crank, comps, ours):  # type: ignore[no-untyped-def]
+    """pylinkage's compiled sweep with its rates, and its largest difference to ours.
+
+    Its frames start one step after the reference, at unit input speed: ``ours`` is
+    the joint table (x, y, sigma, kappa) of the same frames.
+    """
+    linkage.set_input_velocity(crank, omega=1.0, alpha=0.0)
+
+    def run():  # type: ignore[no-untyped-def]
+        return linkage.step_fast_with_kinematics(iterations=FRAMES, dt=1)
+
+    pos, vel, acc = run()
+    diff = 0.0
+    for k, joint in comps:
+        o = ours[joint]
+        diff = max(
+            diff,
+            float(np.abs(pos[:, k, 0] - o["x"]).max()),
+            float(np.abs(pos[:, k, 1] - o["y"]).max()),
+            float(np.abs(vel[:, k, 0] - o["sx"]).max()),
+            float(np.abs(acc[:, k, 1] - o["ky"]).max()),
         )
-        dyad = pl.RRRDyad(
-            anchor1=crank.output, anchor2=O2, distance1=b, distance2=c, x=B0.real, y=B0.imag
+    return run, diff
+
+
+def _shifted(mech):  # type: ignore[no-untyped-def]
+    """Our joint table on pylinkage's frames (one step after the reference)."""
+    km = KinematicModel.build(mech)
+    q = km.q_ref[0] + 2 * math.pi / FRAMES * np.arange(1, FRAMES + 1)
+    return kinematic_analysis(mech, q=q, checks=False).joints
+
+
+def _pylinkage_four_bar(pl, m):  # type: ignore[no-untyped-def]
+    """The four-bar in pylinkage (1.3 API): (sweep, max |difference|) or None."""
+    z = {j: complex(*m.joint(j).at) for j in ("O1", "A", "B", "O2")}
+    try:
+        from pylinkage.actuators import Crank
+        from pylinkage.components import Ground
+        from pylinkage.dyads import RRRDyad
+        from pylinkage.simulation import Linkage
+
+        O1, O2 = Ground(0.0, 0.0, name="O1"), Ground(z["O2"].real, z["O2"].imag, name="O2")
+        th0 = math.atan2(z["A"].imag, z["A"].real)
+        crank = Crank(
+            anchor=O1, radius=abs(z["A"]), angular_velocity=2 * math.pi / FRAMES, initial_angle=th0
         )
-        linkage = pl.Linkage([O1, O2, crank, dyad], order=[crank, dyad])
-
-        def run() -> list:
-            return list(linkage.step(iterations=FRAMES, dt=1))
-
-        pts = run()
+        B = RRRDyad(
+            anchor1=crank.output, anchor2=O2, distance1=abs(z["B"] - z["A"]),
+            distance2=abs(z["B"] - z["O2"]), x=z["B"].real, y=z["B"].imag,
+        )  # fmt: skip
+        linkage = Linkage([O1, O2, crank, B], order=[crank, B])
+        comps = [(linkage.components.index(B), "B")]
+        return _pylinkage_sweep(pl, linkage, crank, comps, _shifted(m))
     except Exception as exc:  # another API version
         print(f"pylinkage failed: {exc.__class__.__name__}: {exc}")
         return None
-    if len(pts) != FRAMES:
+
+
+def _pylinkage_watt(pl, mw):  # type: ignore[no-untyped-def]
+    """The Watt six-bar in pylinkage: crank, dyad B, C fixed on the rocker, dyad D."""
+    z = {k: complex(*v[0]) for k, v in WATT.items()}
+    try:
+        from pylinkage.actuators import Crank
+        from pylinkage.components import Ground
+        from pylinkage.dyads import FixedDyad, RRRDyad
+        from pylinkage.simulation import Linkage
+
+        O1 = Ground(z["O1"].real, z["O1"].imag, name="O1")
+        O2 = Ground(z["O2"].real, z["O2"].imag, name="O2")
+        O3 = Ground(z["O3"].real, z["O3"].imag, name="O3")
+        th0 = math.atan2((z["A"] - z["O1"]).imag, (z["A"] - z["O1"]).real)
+        crank = Crank(
+            anchor=O1, radius=abs(z["A"] - z["O1"]), angular_velocity=2 * math.pi / FRAMES,
+            initial_angle=th0,
+        )  # fmt: skip
+        B = RRRDyad(
+            anchor1=crank.output, anchor2=O2, distance1=abs(z["B"] - z["A"]),
+            distance2=abs(z["B"] - z["O2"]), x=z["B"].real, y=z["B"].imag,
+        )  # fmt: skip
+        turn = (z["C"] - z["O2"]) / (z["B"] - z["O2"])
+        C = FixedDyad(
+            anchor1=O2, anchor2=B, distance=abs(z["C"] - z["O2"]),
+            angle=math.atan2(turn.imag, turn.real),
+        )  # fmt: skip
+        D = RRRDyad(
+            anchor1=C, anchor2=O3, distance1=abs(z["D"] - z["C"]),
+            distance2=abs(z["D"] - z["O3"]), x=z["D"].real, y=z["D"].imag,
+        )  # fmt: skip
+        linkage = Linkage([O1, O2, O3, crank, B, C, D], order=[crank, B, C, D])
+        comps = [(linkage.components.index(B), "B"), (linkage.components.index(D), "D")]
+        return _pylinkage_sweep(pl, linkage, crank, comps, _shifted(mw))
+    except Exception as exc:  # another API version
+        print(f"pylinkage failed: {exc.__class__.__name__}: {exc}")
         return None
-    # its frames start one step after the reference; compare B with ours on that sweep
-    xs = np.array([complex(*fr[-1]) for fr in pts])
-    return median_time(run, max(3, R // 3))[0], float(np.abs(xs - _our_B(a, b, c, d, th0)).max())
-
-
-def _our_B(a, b, c, d, th0) -> np.ndarray:
-    m = read_mechanism(example_path("four-bar"))
-    q = th0 + 2 * math.pi / FRAMES * np.arange(1, FRAMES + 1)
-    r = kinematic_analysis(m, q=q, checks=False)
-    return r.joints["B"]["x"] + 1j * r.joints["B"]["y"]
 
 
 if __name__ == "__main__":
