@@ -22,7 +22,6 @@ import os
 import re
 import stat
 import sys
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -113,13 +112,19 @@ def parse_mechanism(text: str, toml: bool = False, source: str = "input") -> Mec
     """Parse mechanism text (JSON by default)."""
     if not isinstance(text, str):
         raise MechanismError(f"text: expected the file's text (a str), got {type(text).__name__}")
+    if toml:
+        import tomllib  # here: its import costs a JSON-only start-up a tenth
+
+        decode_error: type[ValueError] = tomllib.TOMLDecodeError
+    else:
+        decode_error = json.JSONDecodeError
     try:
         data = tomllib.loads(text) if toml else json.loads(text)
     except json.JSONDecodeError as exc:
         raise MechanismError(
             f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
         ) from None
-    except tomllib.TOMLDecodeError as exc:
+    except decode_error as exc:
         raise MechanismError(f"{source}: not valid TOML ({exc})") from None
     except RecursionError:
         raise MechanismError(f"{source}: nested too deeply to be a mechanism") from None

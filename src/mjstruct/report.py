@@ -16,7 +16,6 @@ Examples
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -92,6 +91,8 @@ class StructuralReport:
 
     def _repr_html_(self) -> str:
         """Notebook table of the numbers (the ``analyze --json`` keys)."""
+        import html  # the notebook's table only: not on the CLI's path
+
         d = self.to_dict()
         rows = []
         for key, value in d.items():

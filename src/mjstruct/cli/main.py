@@ -35,17 +35,52 @@ COMMANDS: dict[str, str] = {
 }
 
 
+class _Formatter(argparse.HelpFormatter):
+    """argparse's help formatter, its width found without importing ``shutil``
+    (argparse imports it for every parser: compression modules a start-up pays for)."""
+
+    def __init__(
+        self, prog: str, indent_increment: int = 2, max_help_position: int = 24,
+        width: int | None = None,
+    ) -> None:  # fmt: skip
+        if width is None:
+            width = _columns() - 2  # as argparse: the terminal's columns less two
+        super().__init__(prog, indent_increment, max_help_position, width)
+
+
+def _columns() -> int:
+    """The terminal's width as ``shutil.get_terminal_size().columns`` gives it."""
+    import os
+
+    try:
+        columns = int(os.environ["COLUMNS"])
+    except (KeyError, ValueError):
+        columns = 0
+    if columns <= 0:
+        try:
+            columns = os.get_terminal_size(sys.__stdout__.fileno()).columns  # type: ignore[union-attr]
+        except (AttributeError, ValueError, OSError):
+            columns = 0
+    return columns or 80
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", _Formatter)
+        super().__init__(*args, **kwargs)
+
     def error(self, message: str) -> NoReturn:  # one line, exit 2
         emit_error(f"{self.prog}: error: {message}")
         raise SystemExit(2)
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
-    """The argument parser; with ``only``, just that command's module is imported.
+    """The argument parser; with ``only``, just that command's parser and module.
 
-    Every command is listed either way; importing only the one that runs keeps the
-    start-up of, say, ``mjstruct analyze`` free of the plotting and numerical modules.
+    Without ``only`` every command is listed (the top-level help); with it only the
+    command that runs is built and imported, which keeps the start-up of, say,
+    ``mjstruct analyze`` free of the plotting and numerical modules and of a dozen
+    argparse parsers.
     """
     parser = _Parser(
         prog="mjstruct", description="Structural analysis of planar linkages with multiple joints."
@@ -56,6 +91,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for name, help_text in COMMANDS.items():
+        if only is not None and name != only:
+            continue  # a command that runs needs only its own parser (argparse is slow)
         p = sub.add_parser(name, help=help_text, description=help_text)
         if only is None or name == only:
             module = importlib.import_module(f"mjstruct.cli.{name}")
@@ -65,9 +102,14 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 
 def _command_in(argv: Sequence[str]) -> str | None:
-    """The command named in ``argv`` (the first word that is not an option)."""
-    word = next((a for a in argv if not a.startswith("-")), None)
-    return word if word in COMMANDS else None
+    """The command named in ``argv`` (the first word that is not an option); None when
+    a help option comes first (the top-level help lists every command)."""
+    for a in argv:
+        if a in ("-h", "--help"):
+            return None
+        if not a.startswith("-"):
+            return a if a in COMMANDS else None
+    return None
 
 
 class _Terminated(BaseException):

@@ -171,6 +171,9 @@ def check_outputs(args: argparse.Namespace) -> None:
     ...
     mjstruct.errors.MechanismError: -o: four-bar.json is the input file (write elsewhere)
     """
+    outputs = [(a, f) for a, f in OUTPUT_FLAGS.items() if isinstance(getattr(args, a, None), str)]
+    if not outputs:
+        return  # nothing written to a file (and nothing imported for it)
     import os
 
     from mjstruct.output_files import output_target, same_file
@@ -180,7 +183,7 @@ def check_outputs(args: argparse.Namespace) -> None:
         for path in (getattr(args, a, None) for a in INPUT_ARGUMENTS)
         if isinstance(path, str) and path != "-"
     ]
-    for attr, flag in OUTPUT_FLAGS.items():
+    for attr, flag in outputs:
         out = getattr(args, attr, None)
         if not isinstance(out, str) or out == "-":
             continue

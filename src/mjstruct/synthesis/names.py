@@ -25,7 +25,7 @@ Examples
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache, lru_cache
 
 from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.structure.isomorphism import canonical_code
@@ -69,23 +69,65 @@ EXAMPLES: dict[str, str] = {
 @lru_cache(maxsize=1)
 def familiar_names() -> dict[str, str]:
     """Canonical code (chain level) -> familiar name."""
+    tables = [_names_of_size(n) for n in sorted(set(_classic_sizes().values()))]
+    tables += [_names_of_size(n) for n in sorted(set(_example_sizes().values()))]
+    by_name = {name: code for table in tables for code, name in table.items()}
+    # the classic chains first, then the examples (in the order of their tables)
     out: dict[str, str] = {}
-    for name, joints in CLASSIC.items():
-        m = Mechanism.build([(f"J{k}", js) for k, js in enumerate(joints)])
-        out[canonical_code(m, "chain")] = name
-    from mjstruct.catalog_files import example_path
-    from mjstruct.io import read_mechanism
-
-    for stem, name in EXAMPLES.items():
-        path = example_path(stem)
-        if path.is_file():
-            out.setdefault(canonical_code(read_mechanism(path), "chain"), name)
+    for name in [*CLASSIC, *EXAMPLES.values()]:
+        if name in by_name:
+            out.setdefault(by_name[name], name)
     return out
 
 
 def familiar_name(m: Mechanism) -> str | None:
     """The familiar name of ``m``'s chain, or None."""
-    return familiar_names().get(canonical_code(m, "chain"))
+    # only the named chains of m's size are canonised (a CLI start-up reads no others)
+    table = _names_of_size(len(m.links))
+    return table.get(canonical_code(m, "chain")) if table else None
+
+
+def _classic_sizes() -> dict[str, int]:
+    """Classic chain name -> its number of links."""
+    return {name: len({x for js in joints for x in js}) for name, joints in CLASSIC.items()}
+
+
+@lru_cache(maxsize=1)
+def _example_sizes() -> dict[str, int]:
+    """Shipped example stem -> its number of links (from the file, unvalidated: only
+    to choose which examples to read and canonise for a chain of a given size)."""
+    import json
+
+    from mjstruct.catalog_files import example_path
+
+    out = {}
+    for stem in EXAMPLES:
+        path = example_path(stem)
+        if path.is_file():
+            data = json.loads(path.read_text(encoding="utf-8"))
+            out[stem] = len({str(x) for j in data.get("joints", []) for x in j.get("links", [])})
+    return out
+
+
+@cache
+def _names_of_size(size: int) -> dict[str, str]:
+    """Canonical code -> familiar name of the named chains with ``size`` links."""
+    out: dict[str, str] = {}
+    sizes = _classic_sizes()
+    for name, joints in CLASSIC.items():
+        if sizes[name] == size:
+            m = Mechanism.build([(f"J{k}", js) for k, js in enumerate(joints)])
+            out[canonical_code(m, "chain")] = name
+    stems = [s for s, n in _example_sizes().items() if n == size]
+    if stems:
+        from mjstruct.catalog_files import example_path
+        from mjstruct.io import read_mechanism
+
+        for stem in stems:
+            out.setdefault(
+                canonical_code(read_mechanism(example_path(stem)), "chain"), EXAMPLES[stem]
+            )
+    return out
 
 
 def _frame_code(m: Mechanism) -> str:
