@@ -5,7 +5,8 @@ animation, a CSV table, a converted mechanism):
 
 - an output path that is a symbolic link is *followed*: the file it points to is
   replaced and the link stays (as the shell's ``>`` does); a link that points to a
-  file not yet there creates that file; a loop of links is bad input;
+  file not yet there creates that file; a loop of links, or a link to a file whose
+  suffix differs (``picture.svg`` pointing to ``notes.txt``), is bad input;
 - the file is written under a temporary name in the directory of that final file and
   moved into place with :func:`os.replace`, so it is either complete or untouched;
 - a new file gets the permissions the user's umask gives (``0o666 & ~umask``, as
@@ -53,7 +54,8 @@ def output_target(path: str | os.PathLike[str], name: str = "path") -> Path:
     Raises
     ------
     MechanismError
-        ``path`` is a loop of symbolic links, or a directory.
+        ``path`` is a loop of symbolic links, a directory, or a link to a file with
+        another suffix.
     """
     try:
         real = os.path.realpath(path, strict=True)
@@ -67,6 +69,14 @@ def output_target(path: str | os.PathLike[str], name: str = "path") -> Path:
     target = Path(real)
     if target.is_dir():
         raise MechanismError(f"{name}: {os.fspath(path)} is a directory")
+    given = Path(os.fspath(path))
+    if target.suffix.lower() != given.suffix.lower() and given.name != target.name:
+        # a link to a file of another kind: following it would put, say, an SVG
+        # picture into notes.txt
+        raise MechanismError(
+            f"{name}: {os.fspath(path)} is a link to {target}, a file of another kind "
+            f"({target.suffix or 'no suffix'}); write to that file by its own name"
+        )
     return target
 
 

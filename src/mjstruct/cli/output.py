@@ -161,9 +161,10 @@ def check_outputs(args: argparse.Namespace) -> None:
     """Refuse, before any work, an output that cannot be written as the contract says.
 
     Each output a command was given (``-o``, ``--csv``, ``--draw``) is checked with
-    its links followed (:func:`mjstruct.output_files.output_target`): a loop of links
-    or a directory is bad input naming the flag, and so is an output that is the very
-    file the command reads (writing it would destroy the input).
+    its links followed (:func:`mjstruct.output_files.output_target`): a loop of links,
+    a directory or a link to a file of another kind is bad input naming the flag, and
+    so is an output that is the very file the command reads (writing it would destroy
+    the input).
 
     >>> ns = argparse.Namespace(file="four-bar.json", output="four-bar.json")
     >>> check_outputs(ns)
@@ -187,7 +188,7 @@ def check_outputs(args: argparse.Namespace) -> None:
         out = getattr(args, attr, None)
         if not isinstance(out, str) or out == "-":
             continue
-        target = output_target(out, flag)
-        for path in inputs:
-            if same_file(path, target) or os.path.realpath(path) == os.fspath(target):
+        for path in inputs:  # first: the most telling refusal
+            if same_file(path, out) or os.path.realpath(path) == os.path.realpath(out):
                 raise MechanismError(f"{flag}: {out} is the input file (write elsewhere)")
+        output_target(out, flag)  # loops, directories, links to another kind of file
