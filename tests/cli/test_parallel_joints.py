@@ -18,6 +18,7 @@ import sys
 import time
 
 import pynauty
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -138,7 +139,11 @@ def test_the_quotient_applies_only_to_large_graphs() -> None:
     assert canonical_code(small).split("-")[1] != canonical_code(big).split("-")[1]
 
 
-def test_sigterm_stops_a_long_nauty_run_at_once(tmp_path) -> None:
+@pytest.mark.parametrize(
+    ("signum", "status", "line"),
+    [(signal.SIGTERM, 143, "mjstruct: terminated"), (signal.SIGINT, 130, "mjstruct: interrupted")],
+)
+def test_a_signal_stops_a_long_nauty_run_at_once(tmp_path, signum, status, line) -> None:
     # 1500 parallel two-joint paths between links 0 and 1: no twins to merge, and
     # nauty's search takes about a minute inside C (measured 14 s for 1000 paths)
     n = 1500
@@ -157,14 +162,14 @@ def test_sigterm_stops_a_long_nauty_run_at_once(tmp_path) -> None:
         time.sleep(2.0)  # start-up and the structural formulas: then inside nauty
         assert proc.poll() is None
         sent = time.monotonic()
-        proc.send_signal(signal.SIGTERM)
+        proc.send_signal(signum)
         _, err = proc.communicate(timeout=10)
         waited = time.monotonic() - sent
     finally:
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
-    assert proc.returncode == 143 and err.decode() == "mjstruct: terminated\n"
+    assert proc.returncode == status and err.decode() == line + "\n"
     assert waited < 1.5, waited
     # no worker left behind
     assert not subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True).stdout
