@@ -91,6 +91,8 @@ PUBLIC = [
     "mechanism_to_graphml",
     "mechanism_from_node_link",
     "mechanism_to_node_link",
+    "DesignResult",
+    "synthesize",
 ]
 
 CLI = [
@@ -107,6 +109,7 @@ CLI = [
     "lookup",
     "plot",
     "singular",
+    "synthesize",
 ]
 
 

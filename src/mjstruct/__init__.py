@@ -105,6 +105,8 @@ _EXPORTS: dict[str, str] = {
     "rigid_subchain": "mjstruct.synthesis.admissibility",
     "familiar_name": "mjstruct.synthesis.names",
     "seed_invariants": "mjstruct.structure.invariants",
+    "synthesize": "mjstruct.design.api",
+    "DesignResult": "mjstruct.design.result",
 }
 
 # a literal list so that type checkers read it; tests/test_api.py keeps it equal to _EXPORTS
@@ -114,6 +116,7 @@ __all__ = [
     "Atlas",
     "Chain",
     "Decomposition",
+    "DesignResult",
     "DriverChoice",
     "DynamicsResult",
     "FourBar",
@@ -187,6 +190,7 @@ __all__ = [
     "singular_analysis",
     "structural_code",
     "structural_report",
+    "synthesize",
     "to_networkx",
     "write_animation",
     "write_atlas_sheet",
@@ -194,6 +198,12 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal to _EXPORTS
+    from mjstruct.design.api import (
+        synthesize,
+    )
+    from mjstruct.design.result import (
+        DesignResult,
+    )
     from mjstruct.dynamics.analysis import (
         DynamicsResult,
         dynamic_analysis,

@@ -32,6 +32,7 @@ COMMANDS: dict[str, str] = {
     "singular": "singular positions (input limits, output extremes, change points) and zones",
     "dynamics": "equation of motion, steady motion, joint reactions and actuator loads",
     "convert": "between mechanism JSON/TOML, pyslvs expressions, GraphML and node-link JSON",
+    "synthesize": "dimensional synthesis: the dimensions that make a mechanism do a task",
 }
 
 

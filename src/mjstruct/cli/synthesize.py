@@ -1,0 +1,120 @@
+"""``mjstruct synthesize TASK -o OUT``: the dimensions that make a mechanism do a task."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import Any
+
+from mjstruct.cli.output import dumps, emit_json, emit_text, flag_names
+from mjstruct.errors import MechanismError
+
+#: what ``-o`` may be: a mechanism file
+OUTPUT_SUFFIXES = (".json", ".toml")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("task", help="task file (.json or .toml; docs/synthesis-design.md)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT", help="mechanism file to write")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--workers", type=int, default=1, help="processes for the restarts (default 1)")
+    p.add_argument(
+        "--scheduler", default=None, help="Dask scheduler address (optional dask extra)"
+    )
+    p.add_argument(
+        "--history",
+        metavar="CHART",
+        help="also chart the objective against evaluations and time (.svg, .png, .pdf)",
+    )
+    p.add_argument("--json", action="store_true", help="print the contract's JSON object")
+
+
+def run(args: argparse.Namespace) -> int:
+    from mjstruct.design.api import load_task, synthesize
+    from mjstruct.plot.files import FIGURE_SUFFIXES, check_output
+    from mjstruct.synthesis.parallel import ProgressBar
+
+    if args.workers < 1:
+        raise MechanismError(f"--workers: need at least 1, got {args.workers}")
+    if args.seed < 0:
+        raise MechanismError(f"--seed: must be >= 0, got {args.seed}")
+    check_output(args.output, OUTPUT_SUFFIXES, name="-o")
+    if args.history is not None:
+        check_output(args.history, FIGURE_SUFFIXES, name="--history")
+    task = load_task(args.task)
+    bar = ProgressBar.for_cli(f"synthesize {task.kind}", args.json)
+    with flag_names(workers="--workers", scheduler="--scheduler", seed="--seed"):
+        result = synthesize(
+            task, seed=args.seed, workers=args.workers, scheduler=args.scheduler, progress=bar
+        )
+    _write(result.mechanism, args.output)
+    if args.history is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from mjstruct.plot.design_charts import write_history_chart
+
+        write_history_chart(result, args.history, name="--history")
+    if args.json:
+        out = result.to_dict()
+        out["output"] = args.output
+        if args.history is not None:
+            out["history_chart"] = args.history
+        emit_json(out)
+    else:
+        emit_text(render(result.to_dict(), args.output, args.history))
+    return 0
+
+
+def _write(m: Any, path: str) -> None:
+    from mjstruct.io import mechanism_to_dict, mechanism_to_toml
+    from mjstruct.plot.files import write_atomically
+
+    if Path(path).suffix.lower() == ".toml":
+        text = mechanism_to_toml(m)
+    else:
+        text = dumps(mechanism_to_dict(m)) + "\n"
+
+    def write(tmp: str) -> None:
+        Path(tmp).write_text(text, encoding="utf-8")
+
+    write_atomically(path, write, name="-o")
+
+
+def _num(x: Any, fmt: str = ".6g") -> str:
+    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
+
+
+def render(d: dict[str, Any], output: str, chart: str | None = None) -> str:
+    """The text report of a ``synthesize --json`` object."""
+    lines = [
+        f"{d['task']} synthesis: objective {_num(d['objective'])} "
+        f"(root mean square error over {len(d['errors'])} target(s)), "
+        f"{'feasible' if d['feasible'] else 'NOT feasible'}",
+        f"  {d['evaluations']} candidate evaluations in {_num(d['seconds'], '.3g')} s "
+        f"(seed {d['seed']})",
+    ]
+    details = d.get("details", {})
+    timing = details.get("timing")
+    if d["errors"]:
+        lines.append("  target  error" + ("         q" if timing else ""))
+        for i, e in enumerate(d["errors"]):
+            q = f"  {_num(timing[i], '10.6f')}" if timing and i < len(timing) else ""
+            lines.append(f"  {i:6d}  {_num(e, '.3e')}{q}")
+    if d["margins"]:
+        lines.append("  constraint margins (>= 0: met)")
+        for k, v in d["margins"].items():
+            lines.append(f"    {k}: {_num(v, '.4g')}")
+    for key, label in (
+        ("motion", "four-bar motion"),
+        ("min_transmission_deg", "smallest dyad angle (deg)"),
+    ):
+        if key in details:
+            value = details[key]
+            shown = _num(value, ".4g") if isinstance(value, float) else str(value)
+            lines.append(f"  {label}: {shown}")
+    lines.append(f"wrote {output} (the designed mechanism; its targets under 'synthesis')")
+    if chart is not None:
+        lines.append(f"wrote {chart} (objective against evaluations and time)")
+    return "\n".join(lines)

@@ -1,0 +1,98 @@
+"""``synthesize(task, seed=...)``: one entry point for every task kind.
+
+Owns the dispatch from a task (a :class:`~mjstruct.design.task.Task`, a task object
+as read from a file, or a file name) to the module of its kind: path synthesis
+(:mod:`mjstruct.design.path`), function and motion synthesis, and the four-bar matrix
+synthesis ``fourbar-ms`` (:mod:`mjstruct.design.fourbar_ms`, imported when asked).
+
+Examples
+--------
+>>> from mjstruct.io import mechanism_to_dict, read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> m = mechanism_to_dict(read_mechanism(example_path("four-bar")))
+>>> task = {"task": "path", "mechanism": m, "point": "M",
+...         "targets": [[0.40, 0.60], [0.25, 0.85], [0.00, 0.85]],
+...         "timing": [1.05, 1.55, 2.05], "fixed": ["O1", "O2"],
+...         "solver": {"population": 6, "generations": 30, "restarts": 1}}
+>>> r = synthesize(task, seed=1)
+>>> r.feasible, len(r.errors), r.mechanism.extra["synthesis"]["point"]
+(True, 3, 'M')
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+from mjstruct.design.result import DesignResult
+from mjstruct.design.task import Task, read_task, task_from_dict
+from mjstruct.errors import MechanismError
+
+#: the module that solves ``fourbar-ms`` (written apart; imported when asked)
+FOURBAR_MS_MODULE = "mjstruct.design.fourbar_ms"
+
+
+def load_task(task: Task | Mapping[str, Any] | str | Path) -> Task:
+    """A checked :class:`Task` from a task, a task object or a task file's name."""
+    if isinstance(task, Task):
+        return task
+    if isinstance(task, (str, Path)):
+        return read_task(task)
+    return task_from_dict(task)
+
+
+def fourbar_ms_solver() -> Callable[..., DesignResult] | None:
+    """The ``fourbar-ms`` solver, or None while its module is not installed."""
+    try:
+        module = importlib.import_module(FOURBAR_MS_MODULE)
+    except ModuleNotFoundError as exc:
+        if exc.name == FOURBAR_MS_MODULE:
+            return None
+        raise
+    solver: Callable[..., DesignResult] = module.synthesize_fourbar_ms
+    return solver
+
+
+def synthesize(
+    task: Task | Mapping[str, Any] | str | Path,
+    seed: int | None = None,
+    workers: int = 1,
+    scheduler: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> DesignResult:
+    """Synthesise the mechanism a task asks for.
+
+    Parameters
+    ----------
+    task : a :class:`Task`, a task object (the task file's keys) or a task file name.
+    seed : the random seed: the same task and seed give the same design.
+    workers : processes for the independent restarts (at most the number of cores).
+    scheduler : a Dask scheduler address to run the restarts on instead.
+    progress : called as ``progress(done, total)`` while the search runs.
+
+    Raises
+    ------
+    MechanismError
+        bad task input (one line naming the field).
+    NumericalError
+        no feasible design was found (``no feasible design: ...``).
+    """
+    if workers < 1:
+        raise MechanismError(f"workers: need at least 1, got {workers}")
+    t = load_task(task)
+    if t.kind == "fourbar-ms":
+        solver = fourbar_ms_solver()
+        if solver is None:
+            raise MechanismError("task: 'fourbar-ms' is not available in this version yet")
+        return solver(t.data, seed=seed)
+    if t.kind == "path":
+        from mjstruct.design.path import PathProblem
+
+        problem: Any = PathProblem(t)
+    else:
+        raise MechanismError(f"task: {t.kind!r} synthesis is not available in this version yet")
+    from mjstruct.design.search import solve
+
+    return solve(problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress)

@@ -1,0 +1,414 @@
+"""The two-stage search shared by the fitting tasks: global, then local, then verdict.
+
+Owns :class:`FitProblem` (what a task kind provides: bounds and start of its global
+variables, the assessment of a whole population in one kinematics call, the
+residuals and Jacobian of its local stage, and the verdict on a design) and
+:func:`solve`, which runs it:
+
+1. **global**: scipy's ``differential_evolution`` (vectorised: each generation's
+   trial population is one :meth:`FitProblem.assess` call, so one batched kinematics
+   evaluation; constraints by its feasibility rules on the task's margins), started
+   from a Latin hypercube with the starting geometry as one member;
+2. **local**: scipy's ``least_squares`` from the global best on the targets'
+   residuals (the driver values of the targets become variables where they are
+   free), with the Jacobian the problem gives (driver-value columns exact from the
+   kinematics' analogs, geometry columns by central differences of one batched
+   evaluation);
+3. **verdict**: :meth:`FitProblem.finish` moves each stage's best with the
+   kinematics itself (:mod:`mjstruct.design.verify`); the best feasible one wins.
+
+``restarts`` independent runs (seeds spawned from the task's seed, so the same seed
+gives the same design whatever the number of workers) run in this process, on the
+process pool the atlas uses (``workers``) or on a Dask cluster (``scheduler``).
+
+Examples
+--------
+>>> import numpy as np
+>>> s = seeds(7, 3)
+>>> s == seeds(7, 3), len(set(s))
+(True, 3)
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mjstruct.design.result import DesignResult
+from mjstruct.errors import NumericalError
+from mjstruct.mechanism import Mechanism
+from mjstruct.typing import FloatArray
+
+#: weight of a constraint's violation among the local stage's residuals (relative
+#: to the mechanism's size)
+PENALTY = 10.0
+#: margins down to this count as met (rounding)
+MARGIN_SLACK = -1e-9
+#: local-stage evaluations at most (each: one residual vector, or one Jacobian)
+LOCAL_EVALUATIONS = 60
+#: local searches per restart: from the global best and the next best distinct members
+LOCAL_STARTS = 6
+
+Progress = Callable[[int, int], None]
+
+
+@dataclass(frozen=True)
+class Assessment:
+    """A population judged in one call: ``energy`` (sum of squared target errors per
+    candidate, inf where it cannot be measured) and ``margins`` (name -> per
+    candidate, >= 0 where met)."""
+
+    energy: FloatArray
+    margins: Mapping[str, FloatArray]
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """A design judged by the kinematics (see :meth:`FitProblem.finish`)."""
+
+    mechanism: Mechanism
+    objective: float
+    feasible: bool
+    errors: tuple[float, ...]
+    margins: Mapping[str, float]
+    details: Mapping[str, Any]
+    reason: str = ""
+
+    @property
+    def violation(self) -> float:
+        """The largest constraint violation (0 when every margin is met)."""
+        worst = min((v for v in self.margins.values() if math.isfinite(v)), default=0.0)
+        return max(0.0, -worst)
+
+
+class FitProblem:
+    """What a fitting task gives the search; subclasses fill in the methods.
+
+    ``evaluations`` counts the candidates the problem has evaluated (one per
+    candidate of a population, one per residual vector, one per column set of a
+    Jacobian's batch member).
+    """
+
+    kind = ""
+    targets = 0
+    scale = 1.0
+    evaluations = 0
+
+    def bounds(self) -> tuple[FloatArray, FloatArray]:
+        """Lower and upper bounds of the global variables."""
+        raise NotImplementedError
+
+    def start(self) -> FloatArray:
+        """The global variables of the starting design."""
+        raise NotImplementedError
+
+    def assess(self, X: FloatArray) -> Assessment:
+        """Energy and margins of every row of ``X`` (one batched evaluation)."""
+        raise NotImplementedError
+
+    def local_start(self, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """The local stage's variables from global ones, with their bounds."""
+        raise NotImplementedError
+
+    def residuals(self, z: FloatArray) -> FloatArray:
+        """Target residuals (and constraint penalties) of local variables ``z``."""
+        raise NotImplementedError
+
+    def jacobian(self, z: FloatArray) -> FloatArray:
+        """d residuals / d z."""
+        raise NotImplementedError
+
+    def finish(self, z: FloatArray, local: bool) -> Outcome:
+        """The verdict on a design (``z``: local variables if ``local``, else global)."""
+        raise NotImplementedError
+
+    def energy_to_objective(self, energy: float) -> float:
+        """The root mean square target error of a sum of squared errors."""
+        return math.sqrt(energy / max(self.targets, 1)) if math.isfinite(energy) else math.inf
+
+
+def seeds(seed: int | None, count: int) -> list[int]:
+    """``count`` independent seeds derived from ``seed`` (deterministic)."""
+    ss = np.random.SeedSequence(seed)
+    return [int(s.generate_state(1)[0]) for s in ss.spawn(count)]
+
+
+@dataclass
+class _Batch:
+    """The objective and the constraints of scipy's vectorised DE from one evaluation
+    per trial population (scipy asks for the constraints first, then the energies of
+    the feasible members)."""
+
+    problem: FitProblem
+    names: list[str] = field(default_factory=list)
+    cache: dict[bytes, tuple[float, FloatArray]] = field(default_factory=dict)
+    best: float = math.inf
+
+    def _run(self, X: FloatArray) -> Assessment:
+        a = self.problem.assess(X)
+        self.problem.evaluations += X.shape[0]
+        ok = np.ones(X.shape[0], bool)
+        for v in a.margins.values():
+            ok &= v >= MARGIN_SLACK
+        if ok.any():
+            self.best = min(self.best, float(np.min(np.where(ok, a.energy, np.inf))))
+        return a
+
+    def constraints(self, xT: FloatArray) -> FloatArray:
+        X = np.atleast_2d(xT.T) if xT.ndim == 2 else xT[None, :]
+        rows = [self.cache.get(row.tobytes()) for row in X]
+        if all(r is not None for r in rows):  # scipy asking again (its callback's best)
+            out = np.array([r[1] for r in rows if r is not None]).T
+        else:
+            a = self._run(X)
+            out = np.array([a.margins[k] for k in self.names])
+            if len(self.cache) > 4 * len(X):  # keep the last generations only
+                self.cache.clear()
+            for i, (row, e) in enumerate(zip(X, a.energy, strict=True)):
+                self.cache[row.tobytes()] = (float(e), out[:, i])
+        return out if xT.ndim == 2 else out[:, 0]
+
+    def energy(self, xT: FloatArray) -> FloatArray:
+        X = np.atleast_2d(xT.T)
+        out = np.empty(X.shape[0])
+        missing = []
+        for i, row in enumerate(X):
+            hit = self.cache.get(row.tobytes())
+            if hit is None:
+                missing.append(i)
+            else:
+                out[i] = hit[0]
+        if missing:
+            a = self._run(X[missing])
+            out[missing] = a.energy
+        return np.where(np.isfinite(out), out, 1e300)
+
+
+@dataclass(frozen=True)
+class Run:
+    """One restart: its verdicts, its record and its cost."""
+
+    outcomes: tuple[Outcome, ...]
+    history: tuple[tuple[int, float, float], ...]
+    evaluations: int
+    seconds: float
+
+
+def run_once(
+    problem: FitProblem,
+    seed: int,
+    solver: Mapping[str, int | float],
+    progress: Progress | None = None,
+) -> Run:
+    """One global search from ``seed``, the local stage from its best, the verdicts."""
+    from scipy.optimize import NonlinearConstraint, differential_evolution, least_squares
+
+    t0 = time.perf_counter()
+    problem.evaluations = 0
+    lo, hi = problem.bounds()
+    x0 = np.clip(problem.start(), lo, hi)
+    first = problem.assess(x0[None, :])
+    batch = _Batch(problem, names=sorted(first.margins))
+    history: list[tuple[int, float, float]] = []
+    generations = int(solver["generations"])
+    step = [0]
+
+    def record(*_: Any) -> None:
+        step[0] += 1
+        history.append(
+            (
+                problem.evaluations,
+                time.perf_counter() - t0,
+                problem.energy_to_objective(batch.best),
+            )
+        )
+        if progress is not None:
+            progress(min(step[0], generations), generations)
+
+    kwargs: dict[str, Any] = {}
+    if batch.names:
+        kwargs["constraints"] = NonlinearConstraint(batch.constraints, 0.0, np.inf)
+    members = int(solver["population"]) * len(lo)
+    init = screened_start(problem, lo, hi, x0, members, seed)
+    de = differential_evolution(
+        batch.energy,
+        list(zip(lo, hi, strict=True)),
+        init=init,
+        seed=seed,
+        maxiter=generations,
+        tol=float(solver["tol"]),
+        polish=False,
+        updating="deferred",
+        vectorized=True,
+        callback=record,
+        strategy=str(solver.get("strategy", "best1bin")),
+        **kwargs,
+    )
+    outcomes = [problem.finish(np.asarray(de.x, float), local=False)]
+    for x in _local_starts(problem, de, int(solver.get("local_starts", LOCAL_STARTS))):
+        z0, zlo, zhi = problem.local_start(x)
+        try:
+            with np.errstate(all="ignore"):
+                ls = least_squares(
+                    problem.residuals,
+                    z0,
+                    jac=problem.jacobian,
+                    bounds=(zlo, zhi),
+                    method="trf",
+                    x_scale="jac",
+                    max_nfev=LOCAL_EVALUATIONS,
+                )
+        except (ValueError, np.linalg.LinAlgError):
+            continue  # the global stage's verdict stands
+        outcomes.append(problem.finish(np.asarray(ls.x, float), local=True))
+    best = min((o for o in outcomes if o.feasible), key=lambda o: o.objective, default=None)
+    if best is not None:
+        history.append((problem.evaluations, time.perf_counter() - t0, best.objective))
+    if progress is not None:
+        progress(generations, generations)
+    return Run(tuple(outcomes), tuple(history), problem.evaluations, time.perf_counter() - t0)
+
+
+#: candidates screened per member of the first population
+SCREEN = 10
+
+
+def latin_hypercube(n: int, d: int, rng: np.random.Generator) -> FloatArray:
+    """``n`` points in the unit cube ``d``, one in each of n strata of every axis."""
+    strata = np.argsort(rng.random((d, n)), axis=1).T
+    out: FloatArray = (strata + rng.random((n, d))) / n
+    return out
+
+
+def screened_start(
+    problem: FitProblem, lo: FloatArray, hi: FloatArray, x0: FloatArray, members: int, seed: int
+) -> FloatArray:
+    """The first population: the best ``members`` of ``SCREEN`` times as many Latin
+    hypercube samples and the starting design, judged in one batched call (feasible
+    ones by energy first, then the others by their worst margin)."""
+    members = max(members, 5)
+    sample = latin_hypercube(SCREEN * members, len(lo), np.random.default_rng(seed))
+    X = np.vstack([x0[None, :], lo + (hi - lo) * sample])
+    a = problem.assess(X)
+    problem.evaluations += len(X)
+    worst = np.full(len(X), np.inf)
+    for v in a.margins.values():
+        worst = np.minimum(worst, v)
+    feasible = worst >= MARGIN_SLACK
+    key = np.where(feasible, a.energy, np.inf)
+    order = np.lexsort((-worst, key))  # energy among the feasible, then least violation
+    init: FloatArray = X[order[:members]]
+    return init
+
+
+def _local_starts(problem: FitProblem, de: Any, count: int) -> list[FloatArray]:
+    """The global stage's best member and the next best distinct feasible members of
+    its last population (distinct: apart by more than 1e-3 of the bounds' width)."""
+    pop = np.asarray(de.population, float)
+    a = problem.assess(pop)
+    problem.evaluations += len(pop)
+    ok = np.ones(len(pop), bool)
+    for v in a.margins.values():
+        ok &= v >= MARGIN_SLACK
+    order = np.argsort(np.where(ok, a.energy, np.inf), kind="stable")
+    lo, hi = problem.bounds()
+    width = np.maximum(hi - lo, 1e-300)
+    starts = [np.asarray(de.x, float)]
+    for i in order:
+        if len(starts) >= count or not ok[i]:
+            break
+        x = pop[i]
+        if all(np.max(np.abs(x - s) / width) > 1e-3 for s in starts):
+            starts.append(x)
+    return starts
+
+
+def _run_task(task: tuple[FitProblem, int, Mapping[str, int | float]]) -> Run:
+    problem, seed, solver = task
+    return run_once(problem, seed, solver)
+
+
+def solve(
+    problem: FitProblem,
+    seed: int | None,
+    solver: Mapping[str, int | float],
+    workers: int = 1,
+    scheduler: str | None = None,
+    progress: Progress | None = None,
+) -> DesignResult:
+    """Run ``restarts`` two-stage searches; the best feasible verdict is the design.
+
+    Raises
+    ------
+    NumericalError
+        no run found a feasible design (the message starts ``no feasible design:``
+        and gives the best constraint violation and why the kinematics refused it).
+    """
+    t0 = time.perf_counter()
+    restarts = int(solver["restarts"])
+    subseeds = seeds(seed, restarts)
+    runs: list[Run] = []
+    if workers <= 1 and scheduler is None:
+        for k, s in enumerate(subseeds):
+            bar = None
+            if progress is not None:
+                total = restarts * int(solver["generations"])
+                done = k * int(solver["generations"])
+
+                def bar(i: int, n: int, done: int = done, total: int = total) -> None:
+                    assert progress is not None
+                    progress(done + i, total)
+
+            runs.append(run_once(problem, s, solver, bar))
+    else:
+        from mjstruct.synthesis.parallel import run_tasks
+
+        tasks = [(problem, s, solver) for s in subseeds]
+        runs = list(run_tasks(_run_task, tasks, workers, progress, scheduler))
+    outcomes = [o for r in runs for o in r.outcomes]
+    history: list[tuple[int, float, float]] = []
+    evals, secs, best = 0, 0.0, math.inf
+    for r in runs:  # one record: the restarts one after another
+        for k, t, f in r.history:
+            best = min(best, f)
+            history.append((evals + k, secs + t, best))
+        evals += r.evaluations
+        secs += r.seconds
+    feasible = [o for o in outcomes if o.feasible]
+    if not feasible:
+        least = min(outcomes, key=lambda o: (o.violation, o.objective))
+        why = f"; {least.reason}" if least.reason else ""
+        raise NumericalError(
+            f"no feasible design: best constraint violation {least.violation:.3g} "
+            f"({_worst(least)}){why}"
+        )
+    best_o = min(feasible, key=lambda o: o.objective)
+    details = dict(best_o.details)
+    details["restarts"] = restarts
+    details["stage"] = details.get("stage", "local")
+    return DesignResult(
+        best_o.mechanism,
+        problem.kind,
+        best_o.objective,
+        True,
+        best_o.errors,
+        evals,
+        time.perf_counter() - t0,
+        seed,
+        tuple(history),
+        dict(best_o.margins),
+        details,
+    )
+
+
+def _worst(o: Outcome) -> str:
+    finite = {k: v for k, v in o.margins.items() if math.isfinite(v)}
+    if not finite:
+        return "no margin"
+    k = min(finite, key=finite.__getitem__)
+    return f"{k} margin {finite[k]:.3g}"

@@ -1,0 +1,148 @@
+"""Bad task input: one line naming the field, from the library and from the command
+(exit status 2, nothing written); a search that finds nothing: exit 1, nothing written."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from mjstruct.cli.main import main
+from mjstruct.design.task import read_task, task_from_dict
+from mjstruct.errors import MechanismError
+from mjstruct.io import mechanism_to_dict, read_mechanism
+from project_paths import EXAMPLES
+
+
+def _task(**changes):
+    m = mechanism_to_dict(read_mechanism(EXAMPLES / "four-bar.json"))
+    t = {"task": "path", "mechanism": m, "point": "M",
+         "targets": [[0.4, 0.6], [0.3, 0.8], [0.1, 0.9]]}  # fmt: skip
+    t.update(changes)
+    return {k: v for k, v in t.items() if v is not None}
+
+
+BAD = [
+    ({"task": "pathh"}, r"^task: unknown task kind 'pathh'"),
+    ({"task": None}, r"^task: missing"),
+    ({"point": "O1"}, r"^point: joint 'O1' is on the frame link"),
+    ({"point": "X"}, r"^point: 'X' is not a point or joint"),
+    ({"targets": [[0.4, 0.6], [0.3]]}, r"^targets\[1\]: expected \[x, y\] with 2 finite numbers"),
+    ({"targets": [[0.4, 0.6], [0.3, "a"]]}, r"^targets\[1\]: expected \[x, y\]"),
+    ({"targets": [[0.4, 1e400], [0.3, 0.1]]}, r"^targets\[0\]: expected \[x, y\]"),
+    ({"targets": []}, r"^targets: expected a non-empty list"),
+    ({"timing": [0.1, 0.2]}, r"^timing: 2 driver values for 3 targets"),
+    ({"timing_offset": True}, r"^timing_offset: needs a timing list"),
+    ({"region": {"A": [[1, 0], [0, 1]]}}, r"^region\.A: xmin 1 > xmax 0"),
+    ({"region": {"A": [[0, 2], [1, 1]]}}, r"^region\.A: ymin 2 > ymax 1"),
+    ({"region": {"Z": [[0, 0], [1, 1]]}}, r"^region\.Z: 'Z' is not a joint or point"),
+    ({"lengths": [2.0, 1.0]}, r"^lengths: min 2 > max 1"),
+    ({"lengths": [0.1, 0.5], "fixed": ["O1", "O2"]}, r"^lengths: the fixed 'O1' and 'O2'"),
+    ({"motion": "crank-slider"}, r"^motion: unknown motion type 'crank-slider'"),
+    ({"motion": "double-rocker"}, r"^motion: untimed targets are matched along a full turn"),
+    ({"transmission_deg": 95}, r"^transmission_deg: 95 is outside \[0, 90\)"),
+    ({"fixed": ["O1"], "region": {"O1": [[1, 1], [2, 2]]}}, r"^region\.O1: the fixed position"),
+    ({"solver": {"population": 0}}, r"^solver\.population: must be in \[4, 100000\]"),
+    ({"colour": "red"}, r"^colour: unknown task key"),
+    ({"mechanism": {"joints": [{"id": "a", "links": [0]}]}}, r"^mechanism\.joints\[0\]"),
+]
+
+
+@pytest.mark.parametrize(("change", "message"), BAD)
+def test_bad_task_names_the_field(change, message):
+    with pytest.raises(MechanismError, match=message):
+        task_from_dict(_task(**change))
+
+
+def test_motion_type_needs_a_four_bar():
+    m = mechanism_to_dict(read_mechanism(EXAMPLES / "slider-crank.json"))
+    m["points"] = [{"id": "P", "link": "2", "at": [0.5, 0.5]}]
+    with pytest.raises(MechanismError, match=r"^motion: a motion type can only be required"):
+        task_from_dict(
+            {
+                "task": "path",
+                "mechanism": m,
+                "point": "P",
+                "targets": [[0, 0]],
+                "motion": "crank-rocker",
+            }
+        )
+
+
+def test_mechanism_path_is_relative_to_the_task_file(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "m.json").write_text(
+        json.dumps(mechanism_to_dict(read_mechanism(EXAMPLES / "four-bar.json")))
+    )
+    t = _task(mechanism="sub/m.json")
+    (tmp_path / "t.toml").write_text(
+        'task = "path"\nmechanism = "sub/m.json"\npoint = "M"\n'
+        "targets = [[0.4, 0.6], [0.3, 0.8]]\n"
+    )
+    assert read_task(tmp_path / "t.toml").mechanism.joint("B").at is not None
+    (tmp_path / "t.json").write_text(json.dumps(t))
+    assert read_task(tmp_path / "t.json").point == "M"
+    (tmp_path / "u.json").write_text(json.dumps(_task(mechanism="missing.json")))
+    with pytest.raises(MechanismError, match=r"^mechanism: .*missing\.json: no such file"):
+        read_task(tmp_path / "u.json")
+
+
+@pytest.mark.parametrize(("change", "message"), [BAD[0], BAD[2], BAD[4], BAD[8], BAD[10]])
+def test_command_refuses_bad_task(tmp_path, capsys, change, message):
+    task = tmp_path / "task.json"
+    task.write_text(json.dumps(_task(**change)))
+    out = tmp_path / "out.json"
+    assert main(["synthesize", str(task), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith("mjstruct synthesize: " + message[1:].split("\\")[0].split("'")[0])
+    assert not out.exists() and list(tmp_path.iterdir()) == [task]
+
+
+def test_command_without_feasible_design_exits_1_and_writes_nothing(tmp_path, capsys):
+    task = tmp_path / "task.json"
+    box = [[0.0, 0.0], [0.05, 0.05]]
+    task.write_text(
+        json.dumps(
+            _task(
+                motion="crank-rocker",
+                transmission_deg=85.0,
+                region={"O1": box, "O2": [[0.9, 0], [0.95, 0.05]]},
+                solver={"population": 5, "generations": 3, "restarts": 1},
+            )
+        )
+    )
+    out = tmp_path / "out.json"
+    assert main(["synthesize", str(task), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "no feasible design: best constraint violation" in err and err.count("\n") == 1
+    assert not out.exists()
+
+
+def test_command_writes_the_design_and_reports(tmp_path, capsys):
+    task = tmp_path / "task.json"
+    timing = [1.2, 1.6, 2.0]
+    task.write_text(
+        json.dumps(
+            _task(
+                timing=timing,
+                fixed=["O1", "O2"],
+                solver={"population": 5, "generations": 10, "restarts": 1},
+            )
+        )
+    )
+    out = tmp_path / "out.toml"
+    chart = tmp_path / "history.svg"
+    args = ["synthesize", str(task), "-o", str(out), "--seed", "3", "--json"]
+    assert main([*args, "--history", str(chart)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    for key in ("objective", "feasible", "errors", "evaluations", "seconds", "seed"):
+        assert key in d
+    assert d["seed"] == 3 and d["feasible"] is True and len(d["errors"]) == 3
+    m = read_mechanism(out)
+    assert m.extra["synthesis"]["point"] == "M" and m.extra["synthesis"]["timing"] == timing
+    assert chart.read_text().startswith("<?xml")
+    assert main(["synthesize", str(task), "-o", str(tmp_path / "b.json"), "--seed", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "path synthesis: objective" in text and "constraint margins" in text
+    assert f"wrote {tmp_path / 'b.json'}" in text
