@@ -146,3 +146,14 @@ def test_command_writes_the_design_and_reports(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "path synthesis: objective" in text and "constraint margins" in text
     assert f"wrote {tmp_path / 'b.json'}" in text
+
+
+def test_command_runs_the_four_bar_matrix_synthesis(tmp_path, capsys):
+    task = tmp_path / "ms.toml"
+    task.write_text('task = "fourbar-ms"\nchange_point = "4.2"\nswing_deg = 141.06\n')
+    out = tmp_path / "ms4.json"
+    assert main(["synthesize", str(task), "-o", str(out), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["task"] == "fourbar-ms" and d["feasible"] is True
+    assert abs(d["details"]["swing_deg"] - 141.06) < 1e-6
+    assert read_mechanism(out).extra["synthesis"]["task"] == "fourbar-ms"

@@ -3,7 +3,7 @@
 Owns the dispatch from a task (a :class:`~mjstruct.design.task.Task`, a task object
 as read from a file, or a file name) to the module of its kind: path synthesis
 (:mod:`mjstruct.design.path`), function and motion synthesis, and the four-bar matrix
-synthesis ``fourbar-ms`` (:mod:`mjstruct.design.fourbar_ms`, imported when asked).
+synthesis ``fourbar-ms`` (:mod:`mjstruct.design.fourbar_ms`).
 
 Examples
 --------
@@ -21,7 +21,6 @@ Examples
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -29,9 +28,6 @@ from typing import Any
 from mjstruct.design.result import DesignResult
 from mjstruct.design.task import Task, read_task, task_from_dict
 from mjstruct.errors import MechanismError
-
-#: the module that solves ``fourbar-ms`` (written apart; imported when asked)
-FOURBAR_MS_MODULE = "mjstruct.design.fourbar_ms"
 
 
 def load_task(task: Task | Mapping[str, Any] | str | Path) -> Task:
@@ -41,18 +37,6 @@ def load_task(task: Task | Mapping[str, Any] | str | Path) -> Task:
     if isinstance(task, (str, Path)):
         return read_task(task)
     return task_from_dict(task)
-
-
-def fourbar_ms_solver() -> Callable[..., DesignResult] | None:
-    """The ``fourbar-ms`` solver, or None while its module is not installed."""
-    try:
-        module = importlib.import_module(FOURBAR_MS_MODULE)
-    except ModuleNotFoundError as exc:
-        if exc.name == FOURBAR_MS_MODULE:
-            return None
-        raise
-    solver: Callable[..., DesignResult] = module.synthesize_fourbar_ms
-    return solver
 
 
 def synthesize(
@@ -83,10 +67,9 @@ def synthesize(
         raise MechanismError(f"workers: need at least 1, got {workers}")
     t = load_task(task)
     if t.kind == "fourbar-ms":
-        solver = fourbar_ms_solver()
-        if solver is None:
-            raise MechanismError("task: 'fourbar-ms' is not available in this version yet")
-        return solver(t.data, seed=seed)
+        from mjstruct.design.fourbar_ms import synthesize_fourbar_ms
+
+        return synthesize_fourbar_ms(t.data, seed=seed)
     if t.kind == "path":
         from mjstruct.design.path import PathProblem
 

@@ -55,8 +55,8 @@ from mjstruct.typing import FloatArray
 TASK_KINDS: dict[str, int] = {"path": 2, "function": 2, "motion": 3, "fourbar-ms": 0}
 #: four-bar motion types a task may require (``motion``)
 MOTION_TYPES = ("crank-rocker", "double-crank", "double-rocker")
-#: every key a task file may hold (others are refused: a misspelt key must not be
-#: silently ignored)
+#: every key a path, function or motion task may hold (others are refused: a misspelt
+#: key must not be silently ignored; fourbar-ms checks its own)
 KNOWN_KEYS = frozenset(
     {
         "task",
@@ -76,15 +76,6 @@ KNOWN_KEYS = frozenset(
         "transmission_deg",
         "min_singular",
         "solver",
-        # fourbar-ms (read by its own module)
-        "ms",
-        "frame_length",
-        "change_point",
-        "swing_deg",
-        "dwell",
-        "time_ratio",
-        "clearance",
-        "assembly",
     }
 )
 #: keys of the optional ``solver`` table and their defaults
@@ -209,17 +200,17 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
     """
     if not isinstance(data, Mapping):
         raise MechanismError("task: the top level must be an object")
-    unknown = sorted(str(k) for k in data if k not in KNOWN_KEYS)
-    if unknown:
-        raise MechanismError(f"{unknown[0]}: unknown task key (see docs/synthesis-design.md)")
     kind = data.get("task")
     if kind is None:
         raise MechanismError("task: missing (path, function, motion or fourbar-ms)")
     if not isinstance(kind, str) or kind not in TASK_KINDS:
         kinds = ", ".join(sorted(TASK_KINDS))
         raise MechanismError(f"task: unknown task kind {kind!r} (one of {kinds})")
-    if kind == "fourbar-ms":
+    if kind == "fourbar-ms":  # its keys are read (and checked) by its own module
         return Task(kind, data, source=source)
+    unknown = sorted(str(k) for k in data if k not in KNOWN_KEYS)
+    if unknown:
+        raise MechanismError(f"{unknown[0]}: unknown task key (see docs/synthesis-design.md)")
     m = _mechanism(data, base)
     if m.frame is None:
         raise MechanismError("mechanism.frame: synthesis needs a frame link")
