@@ -381,14 +381,6 @@ def test_seed_example_values_of_formula3():
     assert formula3(1, 0.5, 0.0, True) == 0.0
 
 
-def test_exact_zone_reproduces_formula3_on_a_fourbar():
-    r = singular_analysis(read_mechanism(example_path("fourbar-ms4")), clearance=0.01, exact=True)
-    for p in r.singular:
-        for z in p.zone:
-            assert z.method == "formula-3"
-            assert z.psi_exact == pytest.approx(z.psi, abs=1e-10)
-
-
 def test_leading_order_zone_on_six_bar_matches_exact_to_its_order():
     r = singular_analysis(stephenson_six_bar(), clearance=1e-4, exact=True)
     for p in r.singular:

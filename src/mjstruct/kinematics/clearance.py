@@ -210,6 +210,10 @@ def exact_zone(
 
         grad = np.zeros(n + m)
         grad[col] = -sign
+        # the turn is sought within half a turn each way: where the pair's pivots can
+        # meet the link turns freely, and the search ends at a bound (a full turn)
+        bounds = [(None, None)] * (n + m)
+        bounds[col] = (x[col] - math.pi, x[col] + math.pi)
         res = minimize(
             lambda z, sg=sign: -sg * z[col],
             np.concatenate([y0, u0]),
@@ -218,14 +222,21 @@ def exact_zone(
                 {"type": "eq", "fun": closure, "jac": closure_jac},
                 {"type": "ineq", "fun": discs, "jac": discs_jac},
             ],
+            bounds=bounds,
             method="SLSQP",
-            options={"ftol": 1e-12, "maxiter": 300},
+            options={"ftol": 1e-12, "maxiter": 100},
         )
         z = res.x
-        if float(np.abs(closure(z)).max()) > ZONE_CLOSURE or float(discs(z).min()) < -ZONE_DISC:
-            raise NumericalError(f"exact zone: the feasibility search failed ({res.message})")
+        miss = float(np.abs(closure(z)).max())
+        out = -float(discs(z).min())
+        if not (miss <= ZONE_CLOSURE and out <= ZONE_DISC):
+            raise NumericalError(
+                f"exact zone: the search (SLSQP, {res.nit} iterations) ended on no placement "
+                f"that closes within the pins' clearances (closure error {miss:.1e}, pin "
+                f"offset beyond its clearance {max(out, 0.0):.1e})"
+            )
         ends.append(float(z[col] - x[col]))
     psi = ends[0] - ends[1]
     if not math.isfinite(psi):
-        raise NumericalError("exact zone: the feasibility search failed")
+        raise NumericalError("exact zone: the search ended on no finite turn")
     return min(psi, 2 * math.pi)

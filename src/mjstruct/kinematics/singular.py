@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
 from mjstruct.kinematics.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.kinematics.singular_curve import (
@@ -93,10 +93,13 @@ class Zone:
     link : the longer link of the pair, whose turn about its pivot is ``psi``.
     psi : zone angle (rad): formula (3) for a four-bar, else the leading order.
     method : ``"formula-3"`` or ``"leading-order"``.
-    psi_exact : the feasibility search's angle (only when asked for).
+    psi_exact : the feasibility search's angle (only when asked for; ``None`` when
+        the search found no placement, the warnings say why).
     lam, delta : formula (3)'s ``lambda = r / l`` (shorter over longer link of the
         pair) and ``delta = D / l`` (total clearance over the longer link); ``None``
         for a leading-order zone, which does not use them.
+    exact_sought : the feasibility search was asked for (the JSON then has
+        ``psi_exact``, null when it was not found).
     """
 
     pair: tuple[str, str]
@@ -106,6 +109,7 @@ class Zone:
     psi_exact: float | None = None
     lam: float | None = None
     delta: float | None = None
+    exact_sought: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
@@ -116,8 +120,8 @@ class Zone:
             "lambda": json_number(self.lam),
             "delta": json_number(self.delta),
         }
-        if self.psi_exact is not None:
-            d["psi_exact"] = json_number(self.psi_exact)
+        if self.exact_sought or self.psi_exact is not None:
+            d["psi_exact"] = json_number(self.psi_exact)  # null: not found (warnings say why)
         return d
 
 
@@ -449,7 +453,9 @@ def singular_analysis(
         pairs = tuple(dict.fromkeys((a, b) for a, b, *_ in triples if m.frame not in (a, b)))
         zone = None
         if clearance is not None:
-            zone = _zones(eq, x, kind, triples, clearance, fb is not None, exact)
+            zone, notes = _zones(eq, x, kind, triples, clearance, fb is not None, exact)
+            where = f"{kind} q = {qwrap(eq.input(x)[0]):.9g}"
+            warnings += [f"exact zone at the {where}: {n}" for n in notes]
         positions.append(
             SingularPosition(
                 kind,
@@ -634,8 +640,10 @@ def _zones(
     clearance: float,
     fourbar: bool,
     exact: bool,
-) -> tuple[Zone, ...]:
+) -> tuple[tuple[Zone, ...], list[str]]:
+    """The zone of each collinear pair, and why an exact zone could not be found."""
     m = eq.mechanism
+    notes: list[str] = []
     c = eq.geometry.centres
     load = [j.id for j in m.joints]
     per_pin = {jid: clearance / len(load) for jid in load}
@@ -656,11 +664,10 @@ def _zones(
             method = "formula-3"
             lam: float | None = min(la, lb) / max(la, lb)
             delta: float | None = clearance / max(la, lb)
-            f = fixed
-            if kind == "change_point" and longer == eq.output_link:
-                f = "input"
-            elif kind == "change_point":
-                f = "output" if _turns(eq, x, "output", longer) else "input"
+            # formula (3)'s triangle: the pair's outer pivots held, i.e. the link not
+            # in the pair (input and coupler: the output; coupler and output: the
+            # input); at a change point each pair has its own (both are in line)
+            f = "output" if _input_link(eq) in (a, b) else "input"
         else:
             f = fixed if _turns(eq, x, fixed, longer) else _other(fixed)
             psi = leading_order_zone(eq, x, f, longer, per_pin)
@@ -668,11 +675,21 @@ def _zones(
             lam = delta = None
         pe = None
         if exact:
-            pe = exact_zone(eq, x, f, longer, per_pin, guess=psi)
-        out.append(Zone((a, b), longer, psi, method, pe, lam, delta))
+            try:
+                pe = exact_zone(eq, x, f, longer, per_pin, guess=psi)
+            except NumericalError as e:
+                reason = str(e).removeprefix("exact zone: ")
+                notes.append(f"pair {a}-{b}: {reason}; psi_exact is null, psi ({method}) stands")
+        out.append(Zone((a, b), longer, psi, method, pe, lam, delta, exact))
     # no pair in line (e.g. a class-III group's input limit): no entry, as the
     # contract has one entry per collinear pair
-    return tuple(out)
+    return tuple(out), notes
+
+
+def _input_link(eq: ClosureEquations) -> str:
+    """The moving link of the driver joint (the input of a four-bar)."""
+    m = eq.mechanism
+    return next(x for x in m.joint(eq.driver).links if x != m.frame)
 
 
 def _other(fixed: str) -> str:
