@@ -132,8 +132,11 @@ def masked_sine(disc: FloatArray, det: FloatArray) -> FloatArray:
     return s
 
 
-def _modes_at(K: Modes, i: int) -> dict[int, int]:
-    return {k: (int(v[i]) if isinstance(v, np.ndarray) else int(v)) for k, v in K.items()}
+def _modes_at(K: Modes, i: int, steps: Sequence[int] | None = None) -> dict[int, int]:
+    """The modes at frame ``i`` (only of ``steps``, when given: what one step's
+    evaluation with its dependencies reads; all of them cost O(steps) per call)."""
+    keys = K.keys() if steps is None else [k for k in steps if k in K]
+    return {k: (int(v[i]) if isinstance(v, np.ndarray) else int(v)) for k in keys for v in (K[k],)}
 
 
 def _refine_min(
@@ -141,7 +144,7 @@ def _refine_min(
 ) -> tuple[float, float]:
     """Smallest |sine| of step k between frames i-1 and i+1 (zooming, vectorised)."""
     lo, hi = q[i - 1], q[i + 1]
-    Ki = _modes_at(K, i)
+    Ki = _modes_at(K, i, model.step_dependencies[k])
     best_s, best_q = np.inf, float(q[i, 0])
     for _ in range(5):
         qs = lo + (hi - lo) * np.linspace(0.0, 1.0, 33)[:, None]
@@ -305,7 +308,7 @@ def track_branches(
             if closed is not None and k in inside and closed[a] != closed[b]:
                 continue  # the closure stops here: one event for its group, below
             if switchable:
-                qb = _boundary(model, q[a], q[b], _modes_at(K, a), k)
+                qb = _boundary(model, q[a], q[b], _modes_at(K, a, model.step_dependencies[k]), k)
             elif t is not None and np.isfinite(t[a]).all():
                 qb = _closure_boundary(model, q[a], q[b], t[a], _modes_at(K, a), k, solved)
             else:

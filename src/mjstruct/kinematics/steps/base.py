@@ -111,10 +111,13 @@ class Run:
     t2: FloatArray
     modes: Modes
     poses: dict[str, Pose] = field(default_factory=dict)
-    first: dict[str, str] = field(default_factory=dict)
+    first: FirstLinks = field(init=False)
     solved: dict[str, Jet] = field(default_factory=dict)
     residuals: list[Jet] = field(default_factory=list)
     diag: dict[int, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.first = FirstLinks(self.mechanism, self.poses)
 
     @property
     def frames(self) -> int:
@@ -124,8 +127,8 @@ class Run:
     def place(self, link: str, pose: Pose) -> None:
         """Record a link's pose; its joints are first seen on it unless seen before."""
         self.poses[link] = pose
-        for jid in self.mechanism.link_joints[link]:
-            self.first.setdefault(jid, link)
+        order = self.first.order
+        order.setdefault(link, len(order))
 
     def centre(self, joint: str) -> Jet:
         """Jet of a known joint centre."""
@@ -136,6 +139,33 @@ class Run:
     def mode(self, k: int, reference: int) -> npt.NDArray[Any] | int:
         """Assembly mode of step ``k`` (given, else the reference configuration's)."""
         return self.modes.get(k, reference)
+
+
+class FirstLinks(dict[str, str]):
+    """Joint -> the first placed link that carries it (or the link a step names).
+
+    Found when first asked for, from the placement order (the order of ``poses``),
+    instead of recording every joint of every link as it is placed: placing a link
+    with thousands of joints (a frame carrying many pivots) would cost that per
+    evaluation, and branch refinement evaluates small parts of a plan many times.
+    """
+
+    def __init__(self, mechanism: Mechanism, poses: dict[str, Pose]) -> None:
+        super().__init__()
+        self._mechanism, self._poses = mechanism, poses
+        #: link -> its place in the placement order (kept by :meth:`Run.place`)
+        self.order: dict[str, int] = {}
+
+    def __missing__(self, joint: str) -> str:
+        order = self.order
+        placed = [x for x in self._mechanism.joint(joint).links if x in self._poses]
+        if not placed:
+            raise KeyError(joint)
+        if not all(x in order for x in placed):  # a pose set without Run.place
+            order = {x: k for k, x in enumerate(self._poses)}
+        link = min(placed, key=order.__getitem__)
+        self[joint] = link
+        return link
 
 
 Evaluator = Callable[[Step, int, Run], None]
