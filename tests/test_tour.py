@@ -46,10 +46,14 @@ def substance(nb: Any) -> list[list[str]]:
     for cell in nb.cells:
         if cell.cell_type != "code":
             continue
-        shown = []
+        shown: list[str] = []
         for o in cell.outputs:
             if o.output_type == "stream":
-                shown.append(f"{o.name}: " + "\n".join(x.rstrip() for x in o.text.splitlines()))
+                text = "\n".join(x.rstrip() for x in o.text.splitlines())
+                if shown and shown[-1].startswith(f"{o.name}: "):
+                    shown[-1] += "\n" + text  # one stream may arrive in several pieces
+                else:
+                    shown.append(f"{o.name}: {text}")
             elif "image/png" in o.get("data", {}):
                 shown.append("<picture>")
             elif "text/plain" in o.get("data", {}):
