@@ -8,7 +8,8 @@
 * The slider-crank of [Panasenko 2025], the same at 36 and 3600 frames.
 * The whole reactions step (assembly of the stacked system, active and inertia loads,
   the solve with its condition estimate, the excluded-equation check, the reaction
-  dictionaries: ``analysis._forces`` on a solved ``LinkMotion``) against a hand-written
+  dictionaries: ``joint_loads.link_loads`` and ``joint_loads.joint_loads`` on a solved
+  ``LinkMotion``) against a hand-written
   ``np.linalg.solve`` of the same frames × u × u stack; target within 3×.
 
 Run: ``python benchmarks/bench_dynamics.py [--repeat N]``; prints medians and ratios.
@@ -21,10 +22,12 @@ import argparse
 import numpy as np
 
 from mjstruct.catalog_files import example_path
-from mjstruct.dynamics import analysis, dynamic_analysis
+from mjstruct.dynamics import dynamic_analysis
 from mjstruct.dynamics.data import read_dynamics
+from mjstruct.dynamics.joint_loads import JointLoads, joint_loads, link_loads
 from mjstruct.dynamics.matrices import active_forces, link_motion
 from mjstruct.dynamics.reactions import inertia_loads, stack_loads, system_matrix, unknowns
+from mjstruct.dynamics.result import OUTPUTS
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics.model import KinematicModel
 from timing import race
@@ -60,11 +63,11 @@ def reactions_step(name: str, frames: int, repeat: int) -> None:
     lm = link_motion(model, data.inertia, q, 1.0)
     params = data.parameter_values(**({data.unknown: 1.0} if data.unknown else {}))
     ones = np.ones(q.shape)
-    result = analysis.DynamicsResult(m.name, "speed", model.drivers, q, ones, 0 * ones)
-    wanted = set(analysis.OUTPUTS)
+    wanted = set(OUTPUTS)
 
-    def ours() -> analysis.DynamicsResult:
-        return analysis._forces(result, model, data, lm, params, wanted, None, [], free=False)
+    def ours() -> JointLoads:
+        loads = link_loads(data, lm, params, q[:, 0], ones[:, 0])
+        return joint_loads(model, lm, loads, wanted)
 
     # the same stacked system, assembled once outside the hand-written timing
     fa, ma = active_forces(data, lm, params, q[:, 0], ones[:, 0])

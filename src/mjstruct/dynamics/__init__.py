@@ -3,12 +3,14 @@
 The subpackage is ``mjstruct.dynamics``; its entry point is
 :func:`~mjstruct.dynamics.analysis.dynamic_analysis` (not ``dynamics``, which is this
 package's name).  Modules: ``expressions`` (safe load expressions), ``data`` (the
-file keys), ``matrices`` (incidence, position functions, analogs, inertia and force
-matrices), ``equation`` (V, W, Q, work integrals, steady motion, q̇(q), q̈(q)),
-``reactions`` (the stacked linear system and its check), ``analysis`` (the entry point
-and result), ``report`` (text and CSV), ``time`` (motion in time: run-up and run-down,
-stiffness test, explicit or implicit integrators) on ``time_terms`` (V, W and the loads'
-analogs at any q).
+file keys), ``inputs`` (the boundary: everything checked once), ``matrices``
+(incidence, position functions, analogs, inertia and force matrices), ``equation`` (V,
+W, Q, work integrals, steady motion, q̇(q), q̈(q)), ``motion`` (the three ways of
+driving), ``reactions`` (the stacked linear system), ``joint_loads`` (the forces and
+reactions steps and the check), ``analysis`` (the entry point: the steps in order),
+``result`` (the result and its JSON), ``report`` (text and CSV), ``time`` (motion in
+time: run-up and run-down, stiffness test, explicit or implicit integrators) on
+``time_terms`` (V, W and the loads' analogs at any q).
 
 References
 ----------

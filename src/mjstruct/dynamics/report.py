@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mjstruct.dynamics.analysis import DynamicsResult
+from mjstruct.dynamics.result import DynamicsResult
 from mjstruct.output_numbers import text_number as _fmt
 
 
