@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -10,6 +11,7 @@ from mjstruct.mechanism import Mechanism
 from mjstruct.structure import loops
 from mjstruct.structure.assortments import assortment
 from mjstruct.structure.loops import loop_assortment
+from mjstruct.structure.mobility import cycle_rank
 from strategies import chains, relabelled
 
 
@@ -48,3 +50,20 @@ def test_nonplanar_k33_chain_has_no_loops():
     m = Mechanism.build(joints)
     assert loop_assortment(m) is None
     assert not loops.is_planar(m)
+
+
+@pytest.mark.parametrize(
+    ("joints", "sizes"),
+    [
+        ([("J0", ["0", "1"]), ("J1", ["0", "1"])], (2, 2)),
+        ([("J0", ["0", "1"]), ("J1", ["0", "1"]), ("J2", ["0", "1"])], (2, 2, 2)),
+        ([("A", ["0", "1"]), ("B", ["0", "1"]), ("C", ["1", "2"]), ("D", ["2", "0"])], (2, 3, 3)),
+    ],
+)
+def test_parallel_joints_whose_loop_is_the_chains_own(joints, sizes):
+    """Two links joined by k joints: k two-link loops (k − 1 inside, one outside), also
+    when the parallel joints make the chain's only loop."""
+    m = Mechanism.build(joints, frame="0")
+    la = loop_assortment(m)
+    assert la is not None and la.sizes == sizes
+    assert len(la.sizes) == cycle_rank(m) + 1

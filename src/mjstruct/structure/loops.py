@@ -19,9 +19,10 @@ planar embeddings with different face sizes.  Rule, in order:
 A non-planar chain has no [L]: :func:`loop_assortment` returns ``None``.
 
 Parallel joints (k joints joining the same two links; likewise k binary links in the
-same two joints) count as one: the minimal drawing puts them side by side, making
-k − 1 loops of two links, and the rest of the chain sees one joint.  (Any drawing is
-the one-joint drawing with k − 1 joints added in its faces; each addition splits a
+same two joints) are drawn side by side: k − 1 loops of two links.  The face search
+keeps two of each class (their two-link loop, which may be the chain's only one) and
+adds the other k − 2 as two-link loops.  (Any drawing is the two-joint drawing with
+k − 2 joints added in its faces; each addition splits a
 face of s links into two of s1 + s2 = s + 2, and {s1, s2} is never lexicographically
 below {2, s}, so side by side is minimal.)  Thousands of parallel joints then cost
 what one does, where every rotation of them was a case before.
@@ -192,20 +193,23 @@ def _canonical_faces(g: Adjacency | Mechanism) -> tuple[int, ...] | None:
 
 def without_parallel(g: Adjacency) -> tuple[dict[Any, tuple[Any, ...]], int]:
     """``g`` with every class of parallel degree-2 vertices (joints joining the same two
-    links, binary links in the same two joints) kept once, and the number removed:
+    links, binary links in the same two joints) kept twice, and the number removed:
     each is one more loop of two links in the minimal drawing.
 
     >>> g = {"a": ("x", "y", "z"), "b": ("x", "y", "z"), "x": ("a", "b"),
     ...      "y": ("a", "b"), "z": ("a", "b")}
     >>> without_parallel(g)
-    ({'a': ('x',), 'b': ('x',), 'x': ('a', 'b')}, 2)
+    ({'a': ('x', 'y'), 'b': ('x', 'y'), 'x': ('a', 'b'), 'y': ('a', 'b')}, 1)
     """
-    keep: dict[frozenset[Any], Any] = {}
+    # two of each class stay: they keep the class's loop (a digon) in the graph, so a
+    # chain whose only loops are parallel joints still has its faces
+    kept: dict[frozenset[Any], int] = {}
     dropped: set[Any] = set()
     for v, around in g.items():
         if len(around) == 2:
-            first = keep.setdefault(frozenset(around), v)
-            if first != v:
+            key = frozenset(around)
+            kept[key] = kept.get(key, 0) + 1
+            if kept[key] > 2:
                 dropped.add(v)
     if not dropped:
         return dict(g), 0
