@@ -3,7 +3,8 @@
 Owns the file keys ``inertia``, ``gravity``, ``parameters``, ``loads`` and
 ``energy_change`` (kept by the reader in :attr:`Mechanism.extra`): their validation
 (every error names its field) and the loads compiled to numpy functions of the
-driver coordinate ``q``, the speed ``qdot`` and the parameters.
+driver coordinate ``q``, the speed ``qdot`` and the parameters: read once per mechanism
+object and kept until it is garbage-collected (:func:`read_dynamics`).
 
 Examples
 --------
@@ -26,14 +27,16 @@ Examples
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.dynamics.expressions import parse_expression, reserved_names
+from mjstruct.dynamics.expressions import parse_expression, reserved_names, switch_functions
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Mechanism
 
@@ -102,6 +105,42 @@ class Load:
     def uses_qdot(self) -> bool:
         """Whether the load depends on the speed ``qdot``."""
         return any("qdot" in {s.name for s in e.free_symbols} for e in self.exprs)
+
+    @cached_property
+    def switches(self) -> tuple[Callable[..., Any], ...]:
+        """Functions g(q) whose sign changes are the load's jumps (compiled once).
+
+        See :func:`~mjstruct.dynamics.expressions.switch_functions`.
+        """
+        import sympy
+
+        q = sympy.Symbol("q", real=True)
+        return tuple(
+            sympy.lambdify([q], g, modules="numpy")
+            for e in self.exprs
+            for g in switch_functions(e)
+        )
+
+    def is_affine_in(self, name: str) -> bool:
+        """Whether every component is affine in the parameter ``name`` (decided once)."""
+        if name not in self._affine:
+            import sympy
+
+            p = sympy.Symbol(name, real=True)
+            self._affine[name] = all(
+                sympy.diff(e, p).free_symbols.isdisjoint({p}) for e in self.exprs
+            )
+        return self._affine[name]
+
+    @cached_property
+    def _affine(self) -> dict[str, bool]:
+        return {}
+
+    @cached_property
+    def jumps(self) -> dict[tuple[float, float, float], tuple[float, ...]]:
+        """Where the load jumps along a path: (q_ref, direction, period) -> path
+        parameters (filled by :meth:`~mjstruct.dynamics.equation.PathForce.switches`)."""
+        return {}
 
 
 @dataclass(frozen=True)
@@ -174,12 +213,7 @@ class DynamicsData:
         """Whether every load is affine in the unknown parameter."""
         if self.unknown is None:
             return True
-        import sympy
-
-        p = sympy.Symbol(self.unknown, real=True)
-        return all(
-            sympy.diff(e, p).free_symbols.isdisjoint({p}) for ld in self.loads for e in ld.exprs
-        )
+        return all(ld.is_affine_in(self.unknown) for ld in self.loads)
 
 
 def _number(value: Any, where: str, minimum: float | None = None) -> float:
@@ -232,11 +266,21 @@ def _joint_centres(m: Mechanism) -> dict[str, complex]:
     return {j.id: complex(*j.at) for j in m.joints if j.at is not None}
 
 
+#: read dynamics data per mechanism: id -> (a weak reference to it, its data)
+_READ: dict[int, tuple[weakref.ref[Mechanism], DynamicsData]] = {}
+
+
 def read_dynamics(m: Mechanism, geometry: Geometry | None = None) -> DynamicsData:
     """Read and check the dynamics keys of ``m`` (see the module docstring).
 
     ``geometry``: the mechanism's geometry when already read and checked (the default
     centres of mass are taken from it; without it the joint centres are checked here).
+
+    The data are read once per mechanism object: parsing and compiling the loads
+    (sympy's ``lambdify``) costs milliseconds, and a mechanism is immutable (its
+    ``extra`` keys included: to change a load, build a new mechanism).  The entry is
+    dropped when the mechanism is garbage-collected; data that fail their checks are
+    not kept.
 
     Raises
     ------
@@ -245,6 +289,21 @@ def read_dynamics(m: Mechanism, geometry: Geometry | None = None) -> DynamicsDat
         link or on the frame, an unparsable expression, an unknown symbol, two
         unknown parameters, a key of the wrong type.
     """
+    key = id(m)
+    hit = _READ.get(key)
+    if hit is not None and hit[0]() is m:
+        return hit[1]
+    data = _read(m, geometry)
+
+    def forget(ref: weakref.ref[Mechanism]) -> None:
+        if _READ.get(key, (None,))[0] is ref:
+            del _READ[key]
+
+    _READ[key] = (weakref.ref(m, forget), data)
+    return data
+
+
+def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
     centres = _joint_centres(m) if geometry is None else geometry.centres
     extra = m.extra
     moving = [link for link in m.links if link != m.frame]

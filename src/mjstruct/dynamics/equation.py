@@ -47,6 +47,7 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -55,7 +56,6 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.dynamics.data import DynamicsData
-from mjstruct.dynamics.expressions import switch_functions
 from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.kinematics.model import KinematicModel, Motion
 
@@ -244,18 +244,19 @@ class PathForce:
 
     def switches(self, period: float) -> FloatArray:
         """Path parameters in (0, period) where a load expression jumps."""
-        import sympy
-
-        qs = sympy.Symbol("q", real=True)
         grid = np.linspace(0.0, period, 4097)
         qgrid = self.q(grid)[:, 0]
         out: list[float] = []
         for load in self.data.loads:
-            for e in load.exprs:
-                for g in switch_functions(e):
-                    fn = sympy.lambdify([qs], g, modules="numpy")
+            # the roots of a load's switch functions on a path: kept with the load
+            key = (float(self.model.q_ref[0]), self.direction, period)
+            if key not in load.jumps:
+                roots: list[float] = []
+                for fn in load.switches:
                     vals = np.broadcast_to(np.asarray(fn(qgrid), float), grid.shape)
-                    out += _roots(fn, grid, vals, self.q)
+                    roots += _roots(fn, grid, vals, self.q)
+                load.jumps[key] = tuple(roots)
+            out += load.jumps[key]
         return np.unique(np.array([x for x in out if 0.0 < x < period]))
 
 
@@ -368,6 +369,15 @@ class Integral:
     grid_exact: BoolArray
 
 
+@functools.cache
+def gauss_legendre(nodes: int) -> tuple[FloatArray, FloatArray]:
+    """Gauss–Legendre nodes and weights on [-1, 1] (computed once per count, read-only)."""
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    x.flags.writeable = False
+    w.flags.writeable = False
+    return x, w
+
+
 def _gauss(
     f: Callable[[FloatArray], FloatArray], period: float, targets: FloatArray, brk: FloatArray
 ) -> Integral:
@@ -380,8 +390,8 @@ def _gauss(
     edges = np.unique(np.concatenate([np.linspace(0.0, period, GAUSS_PIECES + 1), targets, brk]))
     edges = edges[(edges >= 0.0) & (edges <= period)]
     nodes = GAUSS_NODES_FEW_PIECES if edges.size <= GAUSS_FEW_PIECES else GAUSS_NODES
-    x2, w2 = np.polynomial.legendre.leggauss(nodes)
-    x1, w1 = np.polynomial.legendre.leggauss(nodes // 2)
+    x2, w2 = gauss_legendre(nodes)
+    x1, w1 = gauss_legendre(nodes // 2)
     x = np.concatenate([x2, x1])
     todo_a, todo_b = edges[:-1], edges[1:]
     done_a: list[FloatArray] = []
@@ -686,7 +696,7 @@ def _stop_point(
     """The path parameter in [a, b] where 2A + V₀q̇₀² reaches zero (q̇² turns negative)."""
     from scipy.optimize import brentq
 
-    xg, wg = np.polynomial.legendre.leggauss(STOP_NODES)
+    xg, wg = gauss_legendre(STOP_NODES)
 
     def energy(x: float) -> float:
         if x <= a:
