@@ -531,3 +531,35 @@ def test_progress_bar_only_on_a_terminal(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(sys, "stderr", term2)
     assert main([*argv[:-2], "--json", "-o", str(tmp_path / "b.gif")]) == 0
     assert term2.getvalue() == ""  # never with --json
+
+
+def test_each_command_says_in_one_line_what_it_wrote_where(tmp_path, capsys):
+    cases = [
+        (["draw", ex("slider-crank"), "--q", "1", "--show", "velocity"], "d.svg",
+         "(slider-crank ([Slider-crank Mathcad]) at q = 57.3°, layers velocity)"),
+        (["draw", ex("watt")], "w.png", "(structural scheme of Watt six-bar)"),
+        (["animate", ex("four-bar"), "--frames", "4", "--dpi", "20"], "a.gif",
+         "(4 frames, 0.2 s at 20 fps)"),
+        (["plot", ex("four-bar"), "--what", "omega", "--frames", "24"], "p.png",
+         "(chart omega of four-bar, 24 frames)"),
+    ]  # fmt: skip
+    for argv, name, what in cases:
+        out = tmp_path / name
+        assert main([*argv, "-o", str(out)]) == 0
+        printed = capsys.readouterr()
+        assert printed.out == f"wrote {out} {what}\n" and printed.err == ""
+        assert out.exists()
+    # warnings stay on stderr, after the one line on stdout
+    rocker = tmp_path / "rocker.json"
+    rocker.write_text(
+        '{"frame": "0", "drivers": ["O1"], "joints": ['
+        '{"id": "O1", "links": ["0", "1"], "at": [0, 0]},'
+        '{"id": "A", "links": ["1", "2"], "at": [0, 2]},'
+        '{"id": "B", "links": ["2", "3"], "at": [1, 2]},'
+        '{"id": "O2", "links": ["3", "0"], "at": [2.6, 0]}]}'
+    )
+    out = tmp_path / "r.gif"
+    assert main(["animate", str(rocker), "--frames", "12", "--dpi", "20", "-o", str(out)]) == 0
+    printed = capsys.readouterr()
+    assert printed.out.count("\n") == 1 and printed.out.startswith(f"wrote {out} (12 frames")
+    assert "frames do not assemble" in printed.out and "warning:" in printed.err

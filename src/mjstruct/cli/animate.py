@@ -12,6 +12,7 @@ from mjstruct.cli.draw import (
     add_output_arguments,
     finish,
     layer_options,
+    layer_words,
     read_model,
 )
 from mjstruct.cli.plot import check_frames_memory
@@ -107,4 +108,8 @@ def run(args: argparse.Namespace) -> int:
             {"q": e.q, "frame": e.frame, "joint": e.joint, "kind": e.kind} for e in mo.events
         ],
     }
-    return finish(args, "animate", info, warnings)
+    seconds = args.frames / args.fps
+    what = f"{args.frames} frames, {seconds:.3g} s at {args.fps} fps{layer_words(layers)}"
+    if gaps:
+        what += f"; {len(gaps)} frames do not assemble"
+    return finish(args, "animate", info, warnings, what)

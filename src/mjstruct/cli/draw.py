@@ -62,19 +62,31 @@ def add_output_arguments(p: argparse.ArgumentParser, formats: str) -> None:
 
 
 def finish(
-    args: argparse.Namespace, command: str, info: dict[str, Any], warnings: list[str]
+    args: argparse.Namespace,
+    command: str,
+    info: dict[str, Any],
+    warnings: list[str],
+    what: str,
 ) -> int:
-    """Print the written file's summary (``--json``) or the warnings on stderr."""
+    """Print what was written: one JSON object (``--json``), else one line on stdout,
+    ``wrote OUT (WHAT)``, and the warnings on stderr."""
     if args.json:
         from mjstruct.cli.output import emit_json
 
         emit_json({"output": args.output, **info, "warnings": warnings})
     else:
-        from mjstruct.cli.output import emit_error
+        from mjstruct.cli.output import emit_error, emit_text
 
+        # one line: names from the file cannot break it into several
+        emit_text(f"wrote {args.output} ({what})".replace("\n", " "))
         for w in warnings:  # a warning names joints and links of the file: sanitised
             emit_error(f"mjstruct {command}: warning: {w}")
     return 0
+
+
+def layer_words(layers: Any) -> str:
+    """``", layers a, b"`` for a summary line (nothing without layers)."""
+    return f", layers {', '.join(layers)}" if layers else ""
 
 
 def read_model(args: argparse.Namespace) -> KinematicModel:
@@ -142,18 +154,22 @@ def run(args: argparse.Namespace) -> int:
 
     matplotlib.use("Agg")
     from mjstruct.plot.drawing import scene_at, write_drawing
+    from mjstruct.plot.scheme import q_text
 
     scene = scene_at(model, q, layers, speed=args.speed, paths=paths, stroke=args.stroke)
     write_drawing(scene, args.output, dpi=args.dpi, name="-o", radians=args.radians)
     warnings = list(scene.motion.warnings)
     ok = bool(scene.motion.valid[-1])
     if not ok:
-        q_text = ", ".join(f"{v:.9g}" for v in scene.motion.q[-1])
+        values = ", ".join(f"{v:.9g}" for v in scene.motion.q[-1])
         warnings.append(
-            f"the mechanism does not assemble at q = {q_text} (only the frame is drawn)"
+            f"the mechanism does not assemble at q = {values} (only the frame is drawn)"
         )
     info = {"layers": list(layers), "q": [float(v) for v in scene.motion.q[-1]], "assembles": ok}
-    return finish(args, "draw", info, warnings)
+    name = model.mechanism.name or "mechanism"
+    at = q_text(scene, int(scene.shown[-1]), args.radians)
+    what = f"{name} at q = {at}{layer_words(layers)}"
+    return finish(args, "draw", info, warnings, what)
 
 
 def _structural(args: argparse.Namespace, m: Any) -> int:
@@ -184,4 +200,5 @@ def _structural(args: argparse.Namespace, m: Any) -> int:
         write_atomically(args.output, lambda tmp: fig.savefig(tmp, dpi=args.dpi), name="-o")
     finally:
         plt.close(fig)
-    return finish(args, "draw", {"layers": [], "q": None, "assembles": None}, [])
+    what = f"structural scheme of {m.name or 'chain'}"
+    return finish(args, "draw", {"layers": [], "q": None, "assembles": None}, [], what)

@@ -94,7 +94,8 @@ def run(args: argparse.Namespace) -> int:
     warnings = []
     if not fig.axes or not any(ax.get_lines() for ax in fig.axes):
         warnings.append("nothing to plot")
-    return finish(args, "plot", {"what": args.what, "frames": args.frames}, warnings)
+    what = f"chart {args.what} of {model.mechanism.name or 'mechanism'}, {args.frames} frames"
+    return finish(args, "plot", {"what": args.what, "frames": args.frames}, warnings, what)
 
 
 def check_frames_memory(
