@@ -44,7 +44,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     add_layer_arguments(p)
     add_angle_argument(p)
-    add_output_arguments(p, ".svg, .png or .pdf")
+    add_output_arguments(p, ".svg, .png, .pdf, or .dxf (CAD outlines; the cad extra)")
     p.add_argument("--dpi", type=int, default=120, help="resolution of a .png (default 120)")
 
 
@@ -138,7 +138,9 @@ def _driver_values(text: str, model: KinematicModel) -> list[float]:
 def run(args: argparse.Namespace) -> int:
     from mjstruct.plot.files import FIGURE_SUFFIXES, check_output
 
-    check_output(args.output, FIGURE_SUFFIXES, name="-o")
+    suffix = check_output(args.output, (*FIGURE_SUFFIXES, ".dxf"), name="-o")
+    if suffix == ".dxf":
+        return _cad(args)
     if args.dpi < 10:
         raise MechanismError(f"--dpi: must be >= 10, got {args.dpi}")
     from mjstruct.io import read_mechanism
@@ -170,6 +172,30 @@ def run(args: argparse.Namespace) -> int:
     at = q_text(scene, int(scene.shown[-1]), args.radians)
     what = f"{name} at q = {at}{layer_words(layers)}"
     return finish(args, "draw", info, warnings, what)
+
+
+def _cad(args: argparse.Namespace) -> int:
+    """``-o OUT.dxf``: the mechanism at the configuration as DXF (the ``cad`` extra)."""
+    from mjstruct.plot.dxf import check_dxf
+
+    check_dxf("-o")  # before anything is computed
+    for flag, value in (("--show", args.show or None), ("--paths", args.paths)):
+        if value is not None:
+            raise MechanismError(f"{flag}: a .dxf holds the links' outlines only, no layers")
+    model = read_model(args)
+    q = None if args.q is None else _driver_values(args.q, model)
+    from mjstruct.plot.dxf import write_dxf
+    from mjstruct.plot.scene import scene_at
+    from mjstruct.plot.scheme import q_text
+
+    scene = scene_at(model, q, stroke=args.stroke)
+    write_dxf(scene, args.output, name="-o")
+    links = len([x for x in model.mechanism.links if x != model.frame])
+    at = q_text(scene, int(scene.shown[-1]), args.radians)
+    name = model.mechanism.name or "mechanism"
+    info = {"layers": [], "q": [float(v) for v in scene.motion.q[-1]], "assembles": True}
+    what = f"DXF of {name} at q = {at}: {links} link layers and the frame"
+    return finish(args, "draw", info, list(scene.motion.warnings), what)
 
 
 def _structural(args: argparse.Namespace, m: Any) -> int:
