@@ -77,8 +77,8 @@ def write_dxf(scene: Scene, path: str, name: str = "path") -> None:
     """
     check_output(path, (".dxf",), name=name)
     check_dxf(name)
-    from ezdxf.filemanagement import new
     from ezdxf.enums import InsertUnits
+    from ezdxf.filemanagement import new
 
     k = int(scene.shown[-1])
     if not scene.motion.valid[k]:
