@@ -310,8 +310,8 @@ def _field(what: str) -> str:
     return "swing_deg" if what == "swing" else what
 
 
-def _show(what: str, v: float) -> str:
-    return f"{math.degrees(v):.4g} deg" if what == "swing" else f"{v:.4g}"
+def _show(what: str, v: float, digits: int = 4) -> str:
+    return f"{math.degrees(v):.{digits}g} deg" if what == "swing" else f"{v:.{digits}g}"
 
 
 def _where(req: Requirement, fixed: Mapping[str, float]) -> str:
@@ -342,7 +342,8 @@ def _solve_1d(
         lo, hi = min(seen) + value, max(seen) + value
         raise MechanismError(
             f"{_field(what)}: no {req.motion} {where} has {what.replace('_', ' ')} "
-            f"{_show(what, value)} (those there give about {_show(what, lo)} to {_show(what, hi)})"
+            f"{_show(what, value, 6)} (those there give about {_show(what, lo)} to "
+            f"{_show(what, hi)})"
         )
     out = []
     for r in roots:

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -55,8 +55,9 @@ from mjstruct.kinematics.singular_curve import (
     Bifurcation,
     Branch,
     ClosureEquations,
+    correct_many,
     point_on_step,
-    tangent,
+    tangents,
     trace_component,
     wrap_delta,
 )
@@ -410,9 +411,9 @@ def singular_analysis(
     fold_arcs: list[FoldArc] = []
     q_spans: list[tuple[float, float, bool]] = []
     for br in branches:
-        qs = np.array([eq.input(p)[0] for p in br.x])
-        dq = np.array([float(eq.input(p)[1] @ t) for p, t in zip(br.x, br.t, strict=True)])
-        do = np.array([float(eq.output(p)[1] @ t) for p, t in zip(br.x, br.t, strict=True)])
+        qs, gq = eq.inputs(br.x)
+        dq = np.einsum("kn,kn->k", gq, br.t)
+        do = np.einsum("kn,kn->k", eq.outputs(br.x)[1], br.t)
         limits: list[float] = []
         fold_in = bool(np.all(np.abs(dq) < FOLD_TOL))
         fold_out = bool(np.all(np.abs(do) < FOLD_TOL))
@@ -421,8 +422,8 @@ def singular_analysis(
             warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0])), same))
             fold_arcs += _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
         for kind, comp, fold, grad in (
-            ("input_limit", dq, fold_in, eq.input),
-            ("output_extreme", do, fold_out, eq.output),
+            ("input_limit", dq, fold_in, eq.inputs),
+            ("output_extreme", do, fold_out, eq.outputs),
         ):
             if fold:
                 continue
@@ -460,14 +461,23 @@ def singular_analysis(
             SingularPosition(
                 kind,
                 float(qwrap(eq.input(x)[0])),
-                float(math.remainder(eq.output_angle(x), 2 * math.pi)),
+                _half_turn(eq.output_angle(x)),
                 coll,
                 pairs,
                 zone,
                 tuple(float(v) for v in x),
             )
         )
-    positions.sort(key=lambda p: (p.q, KINDS.index(p.kind), p.output_angle))
+    # positions equal to rounding sort alike whichever branch met them first
+    positions.sort(
+        key=lambda p: (
+            round(p.q, 9),
+            KINDS.index(p.kind),
+            round(p.output_angle, 9),
+            p.collinear,
+            tuple(round(v, 9) for v in p.configuration),
+        )
+    )
     rng = _input_range(q_spans, q_ref, revolute)
     return SingularAnalysis(
         driver,
@@ -480,7 +490,7 @@ def singular_analysis(
         len(branches),
         revolute,
         fb_out,
-        tuple(sorted(fold_arcs, key=lambda a: (a.q_from, a.q_to, a.kind))),
+        tuple(sorted(fold_arcs, key=lambda a: (round(a.q_from, 9), round(a.q_to, 9), a.kind))),
     )
 
 
@@ -513,26 +523,54 @@ def _sign_changes(comp: FloatArray) -> list[tuple[int, bool]]:
     return out
 
 
-def _refine_root(eq: ClosureEquations, br: Branch, i: int, grad: Any) -> FloatArray | None:
-    """The point between samples i and i+1 where the tangent's component vanishes."""
+def _refine_root(
+    eq: ClosureEquations, br: Branch, i: int, grads: Callable[[FloatArray], Any]
+) -> FloatArray | None:
+    """The point between samples i and i+1 where the tangent's component vanishes.
+
+    ``grads``: the batched coordinate (``eq.inputs`` or ``eq.outputs``).  Nine points
+    of the step are corrected together; the secant in their bracket and two points
+    1e-6 of the step to its sides narrow it (together again), and Brent's method
+    finishes in the narrow bracket.
+    """
     from scipy.optimize import brentq
 
     x0, t0 = br.x[i], br.t[i]
 
     def comp(s: float) -> float:
         x = point_on_step(eq, x0, t0, s)
-        return float(grad(x)[1] @ tangent(eq, x, t0))
+        return float(grads(x[None, :])[1][0] @ tangents(eq, x[None, :], t0)[0][0])
+
+    def comps(ss: FloatArray) -> tuple[FloatArray, FloatArray]:
+        Y, ok = correct_many(eq, x0 + ss[:, None] * t0, t0)
+        Y[ss == 0.0] = x0
+        if not ok[ss != 0.0].all():
+            raise NumericalError("configuration curve: Newton failed inside a located step")
+        V, _ = tangents(eq, Y, t0)
+        return Y, np.einsum("kn,kn->k", grads(Y)[1], V)
 
     s1 = float(t0 @ (br.x[i + 1] - x0))
     grid = np.linspace(0.0, s1, 9)
-    vals = [comp(float(s)) for s in grid]
+    Y, vals = comps(grid)
     for k in range(9):
         if abs(vals[k]) < ROOT_ABS:
-            return point_on_step(eq, x0, t0, float(grid[k]))
+            return np.asarray(Y[k], dtype=np.float64)
     for k in range(8):
         if vals[k] * vals[k + 1] < 0:
-            s = brentq(comp, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-15, maxiter=200)
-            return point_on_step(eq, x0, t0, float(s))
+            lo, hi = float(grid[k]), float(grid[k + 1])
+            # the secant through the bracket, then a bracket 1e-6 of the step around
+            # it, corrected together: Brent's method starts within a few ulps' reach
+            est = lo - vals[k] * (hi - lo) / (vals[k + 1] - vals[k])
+            d = 1e-6 * abs(s1)
+            near = np.array([max(lo, est - d), est, min(hi, est + d)])
+            _, nv = comps(near)
+            pts = [(lo, vals[k]), *zip(near, nv, strict=True), (hi, vals[k + 1])]
+            for (a, fa), (b, fb) in itertools.pairwise(sorted(pts)):
+                if fa == 0.0:
+                    return point_on_step(eq, x0, t0, float(a))
+                if fa * fb < 0:
+                    s = brentq(comp, a, b, xtol=1e-15, rtol=1e-15, maxiter=200)
+                    return point_on_step(eq, x0, t0, float(s))
     return None
 
 
@@ -548,12 +586,12 @@ def _tidy(v: float) -> float:
 def _coinciding(eq: ClosureEquations, br: Branch) -> list[tuple[str, str]]:
     """Pairs of joints (file order) that coincide all along a branch."""
     ids = [j.id for j in eq.mechanism.joints]
+    P = eq.joint_positions(br.x[::5])
     same = []
     for i, a in enumerate(ids):
-        for b in ids[i + 1 :]:
-            d = max(abs(eq.joint_position(p, a) - eq.joint_position(p, b)) for p in br.x[::5])
-            if d < COINCIDE_ALONG:
-                same.append((a, b))
+        for k in range(i + 1, len(ids)):
+            if float(np.abs(P[:, i] - P[:, k]).max()) < COINCIDE_ALONG:
+                same.append((a, ids[k]))
     return same
 
 
@@ -576,13 +614,13 @@ def _fold_arcs(
         if revolute:
             q = q_ref + _wrap_rel(q - q_ref)
         return [FoldArc("input_limit", q, q, joints, None)]
-    dwell = float(math.remainder(eq.output_angle(br.x[0]), two_pi))
+    dwell = _half_turn(eq.output_angle(br.x[0]))
     lo, hi = float(qs.min()), float(qs.max())
     # change points on this branch: within a continuation step of one of its stations
     cuts = sorted(
         float(eq.input(b.x)[0])
         for b in bifs
-        if min(float(np.linalg.norm(wrap_delta(eq, p - b.x))) for p in br.x) < MAX_STEP
+        if float(np.linalg.norm(wrap_delta(eq, br.x - b.x), axis=1).min()) < MAX_STEP
     )
     if not revolute:
         inner = [c for c in cuts if lo < c < hi]
@@ -608,6 +646,12 @@ def _fold_arcs(
         for a, b in itertools.pairwise(ends)
         if b - a > Q_TOUCH
     ]
+
+
+def _half_turn(a: float) -> float:
+    """An angle in (-pi, pi]: -pi up to round-off is pi (one position, one number)."""
+    r = math.remainder(a, 2 * math.pi)
+    return math.pi if r <= -math.pi + Q_TOUCH else r
 
 
 def _wrap_rel(d: float) -> float:

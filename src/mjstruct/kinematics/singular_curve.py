@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import numpy.typing as npt
@@ -58,12 +59,17 @@ from mjstruct.kinematics.tolerances import (
 )
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.drivers import validate_drivers
-from mjstruct.typing import FloatArray
+from mjstruct.typing import ComplexArray, FloatArray
 
 #: largest continuation step (in the normalised coordinates)
 MAX_STEP = 0.05
 #: steps after which a branch that has not closed is reported as trouble
 MAX_STEPS = 40000
+#: continuation stations corrected together (one batched Newton per block)
+BLOCK = 16
+#: a polished change point has J's second-smallest singular value below this (else
+#: the determinant's sign flip was a jump to a branch passing close by)
+CHANGE_POINT_RANK = 1e-8
 
 
 @dataclass(frozen=True)
@@ -109,152 +115,167 @@ class ClosureEquations:
         """The reference configuration (all links at rest)."""
         return np.zeros(self.n)
 
-    def _pose(self, x: FloatArray, link: str) -> tuple[complex, complex, int]:
-        if link == self.mechanism.frame:
-            return 0j, 1 + 0j, -1
-        k = self.moving.index(link)
-        return (
-            complex(x[3 * k], x[3 * k + 1]),
-            complex(math.cos(x[3 * k + 2]), math.sin(x[3 * k + 2])),
-            3 * k,
-        )
+    @cached_property
+    def _kernel(self) -> _Kernel:
+        return _Kernel.build(self)
+
+    def poses(self, X: FloatArray) -> tuple[ComplexArray, ComplexArray, FloatArray]:
+        """Translation, rotation and angle of every link (the frame last) for a batch
+        of configurations ``X`` (K × n): three K × (links) arrays."""
+        K = X.shape[0]
+        Xp = np.concatenate([X, np.zeros((K, 3))], axis=1)  # the frame: at rest
+        phi = Xp[:, 2::3]
+        return Xp[:, 0::3] + 1j * Xp[:, 1::3], np.exp(1j * phi), phi
 
     def point(self, x: FloatArray, link: str, z: complex) -> complex:
         """Where the point of ``link`` with (normalised) reference position ``z`` is."""
-        p, r, _ = self._pose(x, link)
-        return p + r * z
+        T, R, _ = self.poses(np.asarray(x, float)[None, :])
+        k = self._kernel.index[link]
+        return complex(T[0, k] + R[0, k] * z)
+
+    def joint_positions(self, X: FloatArray) -> ComplexArray:
+        """Centres of every joint (file order, each on its first link) over a batch of
+        configurations: K × joints, normalised."""
+        kern = self._kernel
+        T, R, _ = self.poses(X)
+        return T[:, kern.joint_link] + R[:, kern.joint_link] * kern.joint_z
 
     def joint_position(self, x: FloatArray, joint: str) -> complex:
         """Centre of a joint (on its first link), normalised."""
-        j = self.mechanism.joint(joint)
-        return self.point(x, j.links[0], self.centres[joint])
+        k = self._kernel.joint_index[joint]
+        return complex(self.joint_positions(np.asarray(x, float)[None, :])[0, k])
 
     def in_file_units(self, z: complex) -> complex:
         """A normalised position in the file's coordinates."""
         return self.origin + z * self.size
 
-    def residual_blocks(self, x: FloatArray) -> list[tuple[str, FloatArray]]:
-        """Residual of each joint constraint, labelled by joint id (2 or 1 rows each)."""
-        out: list[tuple[str, FloatArray]] = []
-        for j in self.mechanism.joints:
-            z = self.centres[j.id]
-            if j.kind == "R":
-                a = self.point(x, j.links[0], z)
-                for other in j.links[1:]:
-                    d = a - self.point(x, other, z)
-                    out.append((j.id, np.array([d.real, d.imag])))
-            else:
-                la, lb = j.links
-                _, ra, ca = self._pose(x, la)
-                _, _, cb = self._pose(x, lb)
-                pa = x[ca + 2] if ca >= 0 else 0.0
-                pb = x[cb + 2] if cb >= 0 else 0.0
-                u = ra * self.geometry.axes[j.id]
-                d = self.point(x, lb, z) - self.point(x, la, z)
-                out.append((j.id, np.array([pa - pb, (u.conjugate() * d).imag])))
+    def residuals(self, X: FloatArray) -> FloatArray:
+        """All constraint residuals over a batch of configurations: K × rows."""
+        kern = self._kernel
+        T, R, phi = self.poses(X)
+        out = np.empty((X.shape[0], kern.rows))
+        ia, ib, z = kern.r_a, kern.r_b, kern.r_z
+        d = (T[:, ia] + R[:, ia] * z) - (T[:, ib] + R[:, ib] * z)
+        out[:, kern.r_rows] = d.real
+        out[:, kern.r_rows + 1] = d.imag
+        if kern.p_rows.size:
+            ia, ib, z = kern.p_a, kern.p_b, kern.p_z
+            u = R[:, ia] * kern.p_axis
+            dp = (T[:, ib] + R[:, ib] * z) - (T[:, ia] + R[:, ia] * z)
+            out[:, kern.p_rows] = phi[:, ia] - phi[:, ib]
+            out[:, kern.p_rows + 1] = (u.conjugate() * dp).imag
         return out
 
     def residual(self, x: FloatArray) -> FloatArray:
-        """All constraint residuals, stacked."""
-        return np.concatenate([r for _, r in self.residual_blocks(x)])
+        """All constraint residuals, stacked (joints in file order, 2 rows per pin)."""
+        out: FloatArray = self.residuals(np.asarray(x, float)[None, :])[0]
+        return out
 
-    def _point_grad(
-        self, x: FloatArray, link: str, z: complex, sign: float, g: npt.NDArray[np.complex128]
-    ) -> None:
-        _, r, c = self._pose(x, link)
-        if c < 0:
-            return
-        g[c] += sign
-        g[c + 1] += sign * 1j
-        g[c + 2] += sign * 1j * r * z
+    def residual_blocks(self, x: FloatArray) -> list[tuple[str, FloatArray]]:
+        """Residual of each joint constraint, labelled by joint id (2 rows each)."""
+        r = self.residual(x)
+        return [(jid, r[k : k + 2]) for jid, k in self._kernel.blocks]
+
+    def jacobians(self, X: FloatArray) -> FloatArray:
+        """d residual / d x over a batch of configurations: K × rows × n."""
+        kern = self._kernel
+        K, n = X.shape[0], self.n
+        T, R, _ = self.poses(X)
+        # a pin's rows: +-1 in the x and y columns of its two links (constant), and
+        # d(R_k z)/d phi_k = i R_k z in their angle columns
+        out = np.repeat(kern.r_constant[None, :, :], K, axis=0)
+        re, im = kern.r_rows, kern.r_rows + 1
+        for links, sign in ((kern.r_a, 1.0), (kern.r_b, -1.0)):
+            w = R[:, links] * kern.r_z
+            out[:, re, 3 * links + 2] = -sign * w.imag
+            out[:, im, 3 * links + 2] = sign * w.real
+        if kern.p_rows.size:
+            ia, ib, z = kern.p_a, kern.p_b, kern.p_z
+            npr = ia.size
+            jdx = np.arange(npr)
+            u = R[:, ia] * kern.p_axis
+            dp = (T[:, ib] + R[:, ib] * z) - (T[:, ia] + R[:, ia] * z)
+            Gd = np.zeros((K, npr, n + 3), complex)
+            for links, sign in ((ib, 1.0), (ia, -1.0)):
+                Gd[:, jdx, 3 * links] += sign
+                Gd[:, jdx, 3 * links + 1] += sign * 1j
+                Gd[:, jdx, 3 * links + 2] += sign * 1j * R[:, links] * z
+            rot = np.zeros((K, npr, n + 3))
+            rot[:, jdx, 3 * ia + 2] = 1.0
+            rot[:, jdx, 3 * ib + 2] -= 1.0
+            slide = (u.conjugate()[:, :, None] * Gd).imag
+            slide[:, jdx, 3 * ia + 2] += ((1j * u).conjugate() * dp).imag
+            out[:, kern.p_rows] = rot
+            out[:, kern.p_rows + 1] = slide
+        return out[:, :, :n]  # the frame's columns dropped
 
     def jacobian(self, x: FloatArray) -> FloatArray:
         """d residual / d x (rows as :meth:`residual`)."""
-        rows: list[FloatArray] = []
-        for j in self.mechanism.joints:
-            z = self.centres[j.id]
-            if j.kind == "R":
-                for other in j.links[1:]:
-                    g = np.zeros(self.n, complex)
-                    self._point_grad(x, j.links[0], z, 1.0, g)
-                    self._point_grad(x, other, z, -1.0, g)
-                    rows += [g.real.copy(), g.imag.copy()]
-            else:
-                rows += list(self._slide_rows(x, j.id))
-        return np.array(rows).reshape(len(rows), self.n)
+        out: FloatArray = self.jacobians(np.asarray(x, float)[None, :])[0]
+        return out
 
-    def _slide_rows(self, x: FloatArray, jid: str) -> tuple[FloatArray, FloatArray]:
+    def _relatives(self, X: FloatArray, jid: str) -> tuple[FloatArray, FloatArray]:
+        """Relative coordinate of a joint (angle, or slide over :attr:`size`) and its
+        gradient over a batch: K values and K × n gradients."""
         j = self.mechanism.joint(jid)
-        la, lb = j.links
-        z = self.centres[jid]
-        _, ra, ca = self._pose(x, la)
-        _, _, cb = self._pose(x, lb)
-        r1 = np.zeros(self.n)
-        if ca >= 0:
-            r1[ca + 2] += 1.0
-        if cb >= 0:
-            r1[cb + 2] -= 1.0
-        u = ra * self.geometry.axes[jid]
-        d = self.point(x, lb, z) - self.point(x, la, z)
-        gd = np.zeros(self.n, complex)
-        self._point_grad(x, lb, z, 1.0, gd)
-        self._point_grad(x, la, z, -1.0, gd)
-        r2 = (u.conjugate() * gd).imag
-        if ca >= 0:
-            r2[ca + 2] += ((1j * u).conjugate() * d).imag
-        return r1, r2
-
-    def _relative(self, x: FloatArray, jid: str) -> tuple[float, FloatArray]:
-        """Relative coordinate of a joint (angle, or slide over :attr:`size`) and its gradient."""
-        j = self.mechanism.joint(jid)
-        la, lb = j.links[0], j.links[1]
-        g = np.zeros(self.n)
-        _, ra, ca = self._pose(x, la)
-        _, _, cb = self._pose(x, lb)
+        kern = self._kernel
+        ia, ib = kern.index[j.links[0]], kern.index[j.links[1]]
+        n, K = self.n, X.shape[0]
+        T, R, phi = self.poses(X)
+        G = np.zeros((K, n + 3))
         if j.kind == "R":
-            val = (x[cb + 2] if cb >= 0 else 0.0) - (x[ca + 2] if ca >= 0 else 0.0)
-            if cb >= 0:
-                g[cb + 2] += 1.0
-            if ca >= 0:
-                g[ca + 2] -= 1.0
-            return val, g
+            G[:, 3 * ib + 2] += 1.0
+            G[:, 3 * ia + 2] -= 1.0
+            return phi[:, ib] - phi[:, ia], G[:, :n]
         z = self.centres[jid]
-        u = ra * self.geometry.axes[jid]
-        d = self.point(x, lb, z) - self.point(x, la, z)
-        gd = np.zeros(self.n, complex)
-        self._point_grad(x, lb, z, 1.0, gd)
-        self._point_grad(x, la, z, -1.0, gd)
-        g = (u.conjugate() * gd).real
-        if ca >= 0:
-            g[ca + 2] += ((1j * u).conjugate() * d).real
-        return float((u.conjugate() * d).real), g
+        u = R[:, ia] * self.geometry.axes[jid]
+        d = (T[:, ib] + R[:, ib] * z) - (T[:, ia] + R[:, ia] * z)
+        Gd = np.zeros((K, n + 3), complex)
+        Gd[:, 3 * ib] += 1.0
+        Gd[:, 3 * ib + 1] += 1j
+        Gd[:, 3 * ib + 2] += 1j * R[:, ib] * z
+        Gd[:, 3 * ia] -= 1.0
+        Gd[:, 3 * ia + 1] -= 1j
+        Gd[:, 3 * ia + 2] -= 1j * R[:, ia] * z
+        G = (u.conjugate()[:, None] * Gd).real
+        G[:, 3 * ia + 2] += ((1j * u).conjugate() * d).real
+        return (u.conjugate() * d).real, G[:, :n]
 
-    def input(self, x: FloatArray) -> tuple[float, FloatArray]:
-        """The driver coordinate q (as the kinematic model defines it) and its gradient."""
-        val, g = self._relative(x, self.driver)
+    def inputs(self, X: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The driver coordinate q (as the kinematic model defines it) and its gradient
+        over a batch (K values, K × n)."""
+        val, g = self._relatives(X, self.driver)
         if self.mechanism.joint(self.driver).kind == "P":
             return val * self.size, g * self.size
         return self.geometry.driver_ref[self.driver] + val, g
 
-    def output(self, x: FloatArray) -> tuple[float, FloatArray]:
-        """The output link's coordinate whose extremes are sought, and its gradient.
+    def input(self, x: FloatArray) -> tuple[float, FloatArray]:
+        """The driver coordinate q and its gradient at one configuration."""
+        v, g = self.inputs(np.asarray(x, float)[None, :])
+        return float(v[0]), g[0]
+
+    def outputs(self, X: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The output link's coordinate whose extremes are sought, and its gradient,
+        over a batch (K values, K × n).
 
         The relative coordinate of the output's joint with the frame (an angle, or a
         slide in the mechanism's units) when it has one, else the link's angle.
         """
         jid = output_joint(self.mechanism, self.driver, self.output_link)
         if jid is not None:
-            val, g = self._relative(x, jid)
+            val, g = self._relatives(X, jid)
             if self.mechanism.joint(jid).kind == "P":
                 return val * self.size, g * self.size
             return val, g
-        return self.output_angle(x), self._angle_grad(self.output_link)
+        k = self.moving.index(self.output_link)
+        g = np.zeros((X.shape[0], self.n))
+        g[:, 3 * k + 2] = 1.0
+        return self.geometry.char_angle[self.output_link] + X[:, 3 * k + 2], g
 
-    def _angle_grad(self, link: str) -> FloatArray:
-        g = np.zeros(self.n)
-        if link != self.mechanism.frame:
-            g[3 * self.moving.index(link) + 2] = 1.0
-        return g
+    def output(self, x: FloatArray) -> tuple[float, FloatArray]:
+        """The output's coordinate and its gradient at one configuration."""
+        v, g = self.outputs(np.asarray(x, float)[None, :])
+        return float(v[0]), g[0]
 
     def output_angle(self, x: FloatArray) -> float:
         """The output link's angle (characteristic angle, as the kinematic model gives it)."""
@@ -266,6 +287,87 @@ class ClosureEquations:
         if link == self.mechanism.frame:
             return base
         return base + float(x[3 * self.moving.index(link) + 2])
+
+
+@dataclass(frozen=True)
+class _Kernel:
+    """Index arrays of the closure equations, for batched evaluation.
+
+    Links are numbered as the coordinates (moving links in order, the frame last); a
+    revolute pin joining the first link of a joint to another gives two rows (real and
+    imaginary part of the difference of the two links' images of the centre), a slider
+    two (relative angle, offset across the guide).
+    """
+
+    index: dict[str, int]
+    rows: int
+    r_rows: npt.NDArray[np.intp]
+    r_a: npt.NDArray[np.intp]
+    r_b: npt.NDArray[np.intp]
+    r_z: ComplexArray
+    p_rows: npt.NDArray[np.intp]
+    p_a: npt.NDArray[np.intp]
+    p_b: npt.NDArray[np.intp]
+    p_z: ComplexArray
+    p_axis: ComplexArray
+    r_constant: FloatArray
+    blocks: tuple[tuple[str, int], ...]
+    joint_index: dict[str, int]
+    joint_link: npt.NDArray[np.intp]
+    joint_z: ComplexArray
+
+    @classmethod
+    def build(cls, eq: ClosureEquations) -> _Kernel:
+        m = eq.mechanism
+        index = {link: k for k, link in enumerate(eq.moving)}
+        index[str(m.frame)] = len(eq.moving)
+        r: list[tuple[int, int, int, complex]] = []
+        p: list[tuple[int, int, int, complex, complex]] = []
+        blocks: list[tuple[str, int]] = []
+        row = 0
+        for j in m.joints:
+            z = eq.centres[j.id]
+            if j.kind == "R":
+                for other in j.links[1:]:
+                    r.append((row, index[j.links[0]], index[other], z))
+                    blocks.append((j.id, row))
+                    row += 2
+            else:
+                la, lb = j.links
+                p.append((row, index[la], index[lb], z, eq.geometry.axes[j.id]))
+                blocks.append((j.id, row))
+                row += 2
+
+        constant = np.zeros((row, eq.n + 3))
+        for r_row, a, b, _ in r:
+            for link, sign in ((a, 1.0), (b, -1.0)):
+                constant[r_row, 3 * link] = sign
+                constant[r_row + 1, 3 * link + 1] = sign
+
+        def ints(v: list[int]) -> npt.NDArray[np.intp]:
+            return np.array(v, dtype=np.intp)
+
+        def cplx(v: list[complex]) -> ComplexArray:
+            return np.array(v, dtype=complex)
+
+        return cls(
+            index,
+            row,
+            ints([x[0] for x in r]),
+            ints([x[1] for x in r]),
+            ints([x[2] for x in r]),
+            cplx([x[3] for x in r]),
+            ints([x[0] for x in p]),
+            ints([x[1] for x in p]),
+            ints([x[2] for x in p]),
+            cplx([x[3] for x in p]),
+            cplx([x[4] for x in p]),
+            constant,
+            tuple(blocks),
+            {j.id: k for k, j in enumerate(m.joints)},
+            ints([index[j.links[0]] for j in m.joints]),
+            cplx([eq.centres[j.id] for j in m.joints]),
+        )
 
 
 def default_output(m: Mechanism, driver: str) -> str:
@@ -289,10 +391,11 @@ def output_joint(m: Mechanism, driver: str, output: str) -> str | None:
 
 
 def wrap_delta(eq: ClosureEquations, d: FloatArray) -> FloatArray:
-    """A difference of configurations with link angles taken to (-pi, pi]."""
-    out = d.copy()
+    """A difference of configurations (or a stack of them, last axis the coordinates)
+    with link angles taken to (-pi, pi]."""
+    out = np.array(d, dtype=np.float64)
     cols = list(eq.angle_cols)
-    out[cols] = (out[cols] + np.pi) % (2 * np.pi) - np.pi
+    out[..., cols] = (out[..., cols] + np.pi) % (2 * np.pi) - np.pi
     return out
 
 
@@ -322,25 +425,93 @@ def bordered_det(eq: ClosureEquations, x: FloatArray, t: FloatArray) -> float:
     return float(np.linalg.det(np.vstack([J, t]))) if J.shape[0] == eq.n - 1 else math.nan
 
 
+def _solve_many(A: FloatArray, b: FloatArray) -> FloatArray:
+    """``A x = b`` for a stack of systems (least squares where one is not square or
+    singular: the bordered matrix is singular exactly at a change point)."""
+    if A.shape[-2] == A.shape[-1]:
+        try:
+            return np.asarray(np.linalg.solve(A, b[..., None])[..., 0], dtype=np.float64)
+        except np.linalg.LinAlgError:
+            pass
+    return np.asarray((np.linalg.pinv(A) @ b[..., None])[..., 0], dtype=np.float64)
+
+
+def correct_many(
+    eq: ClosureEquations, X_pred: FloatArray, normals: FloatArray, iters: int = 40
+) -> tuple[FloatArray, npt.NDArray[np.bool_]]:
+    """Newton on the closure with ``normal_k . (x_k - x_pred_k) = 0``, all rows at once.
+
+    Returns the corrected points and which of them converged (a row that did not
+    keeps its last iterate).  ``normals``: one per row, or one for all.
+    """
+    X = np.array(X_pred, dtype=np.float64)
+    K, n = X.shape
+    N = np.broadcast_to(normals, (K, n))
+    done = np.zeros(K, dtype=bool)
+    small = np.zeros(K, dtype=bool)  # the last Newton step was below STEP_CONVERGED
+    res = np.full(K, math.inf)
+    for it in range(iters + 1):
+        idx = np.flatnonzero(~done)
+        if idx.size == 0:
+            break
+        Xa, Na = X[idx], N[idx]
+        R = eq.residuals(Xa)
+        res[idx] = np.abs(R).max(axis=1)
+        # quadratic convergence: after a step below 1e-7 the error is ~1e-14
+        conv = small[idx] & (res[idx] < NEWTON_TOL)
+        done[idx[conv]] = True
+        if conv.all() or it == iters:  # res now holds every open row's residual
+            break
+        keep = ~conv
+        idx, Xa, Na, R = idx[keep], Xa[keep], Na[keep], R[keep]
+        r = np.concatenate([R, np.einsum("kn,kn->k", Na, Xa - X_pred[idx])[:, None]], axis=1)
+        A = np.concatenate([eq.jacobians(Xa), Na[:, None, :]], axis=1)
+        dx = _solve_many(A, -r)
+        X[idx] = Xa + dx
+        small[idx] = np.abs(dx).max(axis=1) < STEP_CONVERGED
+        res[idx] = math.inf
+    # out of iterations: near a change point J is nearly singular and Newton slows
+    done |= res < CORRECT_ACCEPT
+    return X, done
+
+
 def correct(
     eq: ClosureEquations, x_pred: FloatArray, normal: FloatArray, iters: int = 40
 ) -> FloatArray | None:
     """Newton on the closure with ``normal . (x - x_pred) = 0``; None if it fails."""
-    x = x_pred.copy()
-    for _ in range(iters):
-        r = np.append(eq.residual(x), float(normal @ (x - x_pred)))
-        A = np.vstack([eq.jacobian(x), normal])
-        dx = np.linalg.lstsq(A, -r, rcond=None)[0]
-        x = np.asarray(x + dx, dtype=np.float64)
-        # quadratic convergence: after a step below 1e-7 the error is ~1e-14
-        if (
-            float(np.abs(dx).max()) < STEP_CONVERGED
-            and float(np.abs(eq.residual(x)).max()) < NEWTON_TOL
-        ):
-            return x
-    if float(np.abs(eq.residual(x)).max()) < CORRECT_ACCEPT:
-        return x
-    return None
+    X, ok = correct_many(eq, np.asarray(x_pred, float)[None, :], normal, iters)
+    return X[0] if ok[0] else None
+
+
+def tangents(
+    eq: ClosureEquations, X: FloatArray, along: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Unit tangents of the curve at the points ``X``, oriented along ``along`` (one
+    direction per row, or one for all), and ``det [J; along]`` there (NaN where the
+    system has redundant rows).
+
+    The tangent solves ``[J; along] v = e_n`` (so ``along . v = 1 > 0``).
+    """
+    K, n = X.shape
+    J = eq.jacobians(X)
+    a = np.broadcast_to(along, (K, n))
+    if J.shape[1] != n - 1:
+        _, _, vt = np.linalg.svd(J)
+        V = vt[:, -1, :]
+        V = V * np.where(np.einsum("kn,kn->k", V, a) < 0, -1.0, 1.0)[:, None]
+        return V, np.full(K, math.nan)
+    A = np.concatenate([J, a[:, None, :]], axis=1)
+    e = np.zeros((K, n))
+    e[:, -1] = 1.0
+    V = _solve_many(A, e)
+    norm = np.linalg.norm(V, axis=1)
+    bad = ~(np.isfinite(norm) & (norm > 0))
+    if bad.any():  # exactly singular (a change point itself): the null vector of J
+        _, _, vt = np.linalg.svd(J[bad])
+        W = vt[:, -1, :]
+        V[bad] = W * np.where(np.einsum("kn,kn->k", W, a[bad]) < 0, -1.0, 1.0)[:, None]
+        norm[bad] = 1.0
+    return V / norm[:, None], np.linalg.det(A)
 
 
 @dataclass(frozen=True)
@@ -429,14 +600,15 @@ def refine_change_point(eq: ClosureEquations, x: FloatArray) -> FloatArray:
     w = U[:, -1]
     n, m = eq.n, w.size
     eps = 1e-7
+    shifts = eps * np.eye(n)
+    last = math.inf
     for _ in range(20):
         J = eq.jacobian(x)
         r = np.concatenate([eq.residual(x), J.T @ w, [w @ w - 1.0]])
-        H = np.empty((n, n))
-        for k in range(n):
-            e = np.zeros(n)
-            e[k] = eps
-            H[:, k] = (eq.jacobian(x + e).T @ w - eq.jacobian(x - e).T @ w) / (2 * eps)
+        # d(J^T w)/dx by central differences, all 2n shifted Jacobians in one batch
+        Js = eq.jacobians(np.concatenate([x + shifts, x - shifts]))
+        Jw = np.einsum("kmn,m->kn", Js, w)
+        H = ((Jw[:n] - Jw[n:]) / (2 * eps)).T
         A = np.zeros((m + n + 1, n + m))
         A[:m, :n] = J
         A[m : m + n, :n] = H
@@ -444,8 +616,10 @@ def refine_change_point(eq: ClosureEquations, x: FloatArray) -> FloatArray:
         A[-1, n:] = 2 * w
         d = np.linalg.lstsq(A, -r, rcond=None)[0]
         x, w = x + d[:n], w + d[n:]
-        if float(np.abs(d).max()) < 1e-15:
+        size = float(np.abs(d).max())
+        if size < 1e-15 or size >= last >= 1e-13:  # converged, or stalled at rounding
             break
+        last = size
     return x
 
 
@@ -464,47 +638,117 @@ def trace_branch(
 ) -> Branch:
     """Follow the smooth branch from ``x0`` along ``t0`` until it closes.
 
+    Stations are taken BLOCK at a time: the curve's crossings with the hyperplanes
+    normal to the block's first tangent at distances h, 2h, ... (predicted along the
+    tangent, bent by the last curvature) are corrected together by one batched Newton,
+    with their tangents and bordered determinants; the block is kept up to the first
+    station that failed, jumped (more than 2h from the one before) or turned too far.
     Change points crossed are located and appended to ``bifs`` (a new one gets the
     tangents of both branches through it).
     """
-    xs, ts = [x0], [t0]
+    X, T = [x0[None, :]], [t0[None, :]]
     x, t = x0, t0
     h = MAX_STEP / 4
     dist = 0.0
     det_prev = bordered_det(eq, x, t)
-    for _ in range(MAX_STEPS):
-        xn = correct(eq, x + h * t, t)
-        tn = None if xn is None else tangent(eq, xn, t)
-        if xn is None or tn is None or float(tn @ t) < STEP_TURN or np.linalg.norm(xn - x) > 2 * h:
+    steps = np.arange(1, BLOCK + 1, dtype=np.float64)
+    curv = np.zeros_like(t0)  # dt/ds from the last block: the predictor's bend
+    for _ in range(MAX_STEPS // BLOCK):
+        s = h * steps
+        pred = x + s[:, None] * t + 0.5 * (s * s)[:, None] * curv
+        Y, ok = correct_many(eq, pred, t, iters=12)
+        V, dets = tangents(eq, np.where(ok[:, None], Y, pred), t)
+        prev_x = np.vstack([x, Y[:-1]])
+        prev_t = np.vstack([t, V[:-1]])
+        step = np.linalg.norm(Y - prev_x, axis=1)
+        good = (
+            ok
+            & (np.einsum("kn,kn->k", V, prev_t) >= STEP_TURN)
+            & (V @ t >= STEP_TURN)
+            & (step <= 2 * h)
+        )
+        kept = BLOCK if good.all() else int(np.argmin(good))
+        if kept == 0:
             h /= 2
             if h < MIN_STEP:
                 raise NumericalError("configuration curve: continuation step underflow")
             continue
-        det_n = bordered_det(eq, xn, t)
-        if det_prev * det_n < 0:
-            # a branch crosses between x and xn: locate it with the step's own normal
-            def bd(s: float, x: FloatArray = x, t: FloatArray = t) -> float:
+        # closing: back within a step of the start, heading towards it
+        back = wrap_delta(eq, x0 - Y[:kept])
+        travelled = dist + np.cumsum(step[:kept])
+        closes = (
+            (travelled > 4 * h)
+            & (np.linalg.norm(back, axis=1) < 1.5 * h)
+            & (np.einsum("kn,kn->k", back, V[:kept]) > -1e-12)
+        )
+        end = int(np.argmax(closes)) + 1 if closes.any() else kept
+        jumped = False
+        for k in range(end):  # change points: sign changes of det [J; t]
+            det_n = float(dets[k])
+            if det_prev * det_n < 0 and not _crossing(eq, prev_x[k], prev_t[k], Y[k], bifs):
+                end, jumped = k, True  # no crossing there: retrace from station k - 1
+                break
+            det_prev = det_n if det_n != 0 else det_prev
+        X.append(Y[:end])
+        T.append(V[:end])
+        if jumped:
+            if end:
+                dist = float(travelled[end - 1])
+                x, t = Y[end - 1], V[end - 1]
+            h = float(step[end]) / 8
+            if h < MIN_STEP:
+                raise NumericalError("configuration curve: continuation step underflow")
+            curv = np.zeros_like(t0)
+            continue
+        if closes.any():
+            X.append((Y[end - 1] + back[end - 1])[None, :])
+            T.append(t0[None, :])
+            return Branch(np.concatenate(X), np.concatenate(T))
+        dist = float(travelled[-1])
+        x, t = Y[kept - 1], V[kept - 1]
+        if kept >= 2:
+            curv = (V[kept - 1] - V[kept - 2]) / max(float(step[kept - 1]), 1e-300)
+        if kept == BLOCK:
+            h = min(MAX_STEP, h * 1.5)
+    raise NumericalError("configuration curve: a branch did not close")
+
+
+def _crossing(
+    eq: ClosureEquations, x: FloatArray, t: FloatArray, xn: FloatArray, bifs: list[Bifurcation]
+) -> bool:
+    """A branch crosses between stations ``x`` and ``xn``: locate it with the step's own
+    normal ``t``, polish it, and record it with its branch directions if new.
+
+    False when no change point is there: the step jumped across to another branch
+    passing close by (the determinant's sign flips with the jump), and the caller
+    retraces it with shorter steps.
+    """
+    # the bordered determinant is linear across a simple crossing: one secant step
+    # starts the Gauss-Newton polish close enough for quadratic convergence; Brent's
+    # method on the determinant only where that lands outside the step
+    d0, d1 = bordered_det(eq, x, t), bordered_det(eq, xn, t)
+    s1 = float(t @ (xn - x))
+    try:
+        xb = refine_change_point(eq, point_on_step(eq, x, t, s1 * d0 / (d0 - d1)))
+        if float(np.linalg.norm(wrap_delta(eq, xb - x))) > 2 * abs(s1) + SAME_POINT:
+
+            def bd(s: float) -> float:
                 return bordered_det(eq, point_on_step(eq, x, t, s), t)
 
-            s_star = _locate(bd, 0.0, float(t @ (xn - x)))
+            s_star = _locate(bd, 0.0, s1)
             xb = refine_change_point(eq, point_on_step(eq, x, t, s_star))
-            known = _known(eq, bifs, xb)
-            if known is None:
-                dirs = branch_directions(eq, xb)
-                bifs.append(Bifurcation(xb, dirs))
-            tn = tangent(eq, xn, t)
-        det_prev = det_n if det_n != 0 else det_prev
-        dist += float(np.linalg.norm(xn - x))
-        x, t = xn, tn
-        xs.append(x)
-        ts.append(t)
-        back = wrap_delta(eq, x0 - x)
-        if dist > 4 * h and float(np.linalg.norm(back)) < 1.5 * h and float(back @ t) > -1e-12:
-            xs.append(x + back)
-            ts.append(t0)
-            return Branch(np.array(xs), np.array(ts))
-        h = min(MAX_STEP, h * 1.25)
-    raise NumericalError("configuration curve: a branch did not close")
+    except (NumericalError, ValueError):  # Newton lost inside the step, or no bracket
+        return False
+    _, sv = null_space(eq.jacobian(xb))
+    if not (
+        float(np.abs(eq.residual(xb)).max()) < CORRECT_ACCEPT
+        and sv[-2] < CHANGE_POINT_RANK
+        and float(np.linalg.norm(wrap_delta(eq, xb - x))) <= 2 * abs(s1) + SAME_POINT
+    ):
+        return False
+    if _known(eq, bifs, xb) is None:
+        bifs.append(Bifurcation(xb, branch_directions(eq, xb)))
+    return True
 
 
 def trace_component(
@@ -568,6 +812,6 @@ def _untraced(
 
 def _passes(eq: ClosureEquations, br: Branch, x: FloatArray, d: FloatArray) -> bool:
     """Does branch ``br`` pass through ``x`` with tangent parallel to ``d``?"""
-    diff = np.array([wrap_delta(eq, p - x) for p in br.x])
+    diff = wrap_delta(eq, br.x - x)
     near = np.linalg.norm(diff, axis=1) < 2 * MAX_STEP
     return bool(near.any() and (np.abs(br.t[near] @ d) > SAME_DIRECTION).any())
