@@ -4,7 +4,14 @@ The targets and the expected counts (the published simple-joint counts, see
 docs/synthesis.md) are those of the timing table in docs/synthesis.md; the 24-link chain
 is example 5 of [MJ structure 2020] (docs/references.md).
 
-Run: ``python benchmarks/bench_atlas.py [--repeat R] [--pyslvs PYTHON]``.  Prints the
+With ``--geng`` it races the simple-joint atlas (2 workers) against nauty's ``geng``
+(Debian package ``nauty``, command ``nauty-geng``; pynauty ships no geng) generating
+every connected graph with n vertices, 3(n-1)/2 - F/2 edges and minimum degree 2,
+followed by a vectorised brute-force admissibility filter (every link subset S,
+``3(|S|-1) - 2 e(S) >= 1``: one matrix product per batch of graphs), counts compared.
+The brute force grows as 2^n: n <= 12 (at 14, geng's generation alone is timed).
+
+Run: ``python benchmarks/bench_atlas.py [--repeat R] [--pyslvs PYTHON] [--geng]``.  Prints the
 median wall time of each case, the count found, and the ratio to the target; with
 ``--pyslvs`` also times pyslvs's structural synthesis (run in that interpreter, e.g. a
 separate venv) on the same simple-joint cases, side by side in the same run.
@@ -62,7 +69,11 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--pyslvs", default=None, help="python interpreter that has pyslvs")
     ap.add_argument("--pyslvs-max-links", type=int, default=12)
+    ap.add_argument("--geng", action="store_true", help="race geng + a numpy filter")
     args = ap.parse_args()
+    if args.geng:
+        race_geng(args.repeat)
+        return
     print(f"{'case':<26} {'median s':>9} {'count':>7} {'target s':>9} {'target/median':>14}")
     for label, F, n, mj, workers, target, expected in CASES:
         t, a = median_time(partial(atlas, F, n, mj=mj, workers=workers), args.repeat)
@@ -108,6 +119,56 @@ def main() -> None:
                 f"{label:<26} {ours:11.3f} {r['median']:9.3f} {r['median'] / ours:7.1f} "
                 f"{len(ours_codes):>6}/{len(theirs):<6} {rigid:>5} {missing:>7}"
             )
+
+
+def geng_admissible(F: int, n: int) -> tuple[int, int]:
+    """(graphs geng generated, admissible ones): the independent enumerator."""
+    import numpy as np
+
+    e = (3 * (n - 1) - F) // 2
+    out = subprocess.run(
+        [GENG, "-c", "-d2", "-q", str(n), f"{e}:{e}"], capture_output=True, check=True
+    ).stdout
+    raw = np.frombuffer(out, dtype=np.uint8).reshape(-1, len(out.split(b"\n", 1)[0]) + 1)
+    six = raw[:, 1:-1].astype(np.uint8) - 63  # graph6: n, then the upper triangle
+    bits = np.unpackbits(six[:, :, None], axis=2)[:, :, 2:].reshape(len(raw), -1)
+    pairs = [(i, j) for j in range(n) for i in range(j)]  # graph6's column order
+    X = bits[:, : len(pairs)].astype(np.float32)
+    subsets = np.arange(1 << n)
+    member = (subsets[:, None] >> np.arange(n)) & 1
+    inside = np.array([member[:, i] & member[:, j] for i, j in pairs], dtype=np.float32)
+    size = member.sum(axis=1)
+    big = size >= 2
+    limit = np.where(big, (3 * (size - 1) - 1) / 2, np.inf)  # e(S) at most this
+    ok = np.ones(len(raw), bool)
+    for lo in range(0, len(raw), 4096):
+        counts = X[lo : lo + 4096] @ inside  # e(S) for every graph and subset
+        ok[lo : lo + 4096] = (counts <= limit[None, :] + 1e-9).all(axis=1)
+    return len(raw), int(ok.sum())
+
+
+GENG = "nauty-geng"
+
+
+def race_geng(repeat: int) -> None:
+    import shutil
+
+    if shutil.which(GENG) is None:
+        print(f"{GENG}: not installed (apt-get install nauty): nothing to race")
+        return
+    print("simple-joint atlas, F = 1: mjstruct (2 workers) against geng + numpy filter")
+    print(f"{'n':>3} {'mjstruct s':>11} {'geng+filter s':>14} {'ratio':>6} {'counts':>16}")
+    for n in (10, 12):
+        t_ours, a = median_time(partial(atlas, 1, n, workers=2), repeat)
+        t_peer, (graphs, count) = median_time(partial(geng_admissible, 1, n), repeat)
+        print(
+            f"{n:3d} {t_ours:11.3f} {t_peer:14.3f} {t_ours / t_peer:6.1f} "
+            f"{a.count:>7}/{count:<7} of {graphs} graphs"
+        )
+    t0 = median_time(
+        lambda: subprocess.run([GENG, "-c", "-d2", "-u", "14", "19:19"], capture_output=True), 1
+    )[0]
+    print(f" 14 geng's generation alone (no filter): {t0:.2f} s; goal: mjstruct within 1.2x")
 
 
 if __name__ == "__main__":
