@@ -179,6 +179,8 @@ IMPLEMENTED = [
     "Zinchenko",
     "Four-bar clearances",
     "McKay & Piperno 2014",
+    "Freudenstein 1955",
+    "Burmester 1888",
 ]
 
 

@@ -71,11 +71,17 @@ def synthesize(
 
         return synthesize_fourbar_ms(t.data, seed=seed)
     if t.kind == "path":
-        from mjstruct.design.path import PathProblem
+        from mjstruct.design.path import path_problem
 
-        problem: Any = PathProblem(t)
-    else:
-        raise MechanismError(f"task: {t.kind!r} synthesis is not available in this version yet")
+        problem: Any = path_problem(t)
+    elif t.kind == "function":
+        from mjstruct.design.function import function_problem
+
+        problem = function_problem(t)
+    elif t.kind == "motion":
+        from mjstruct.design.motion import motion_problem
+
+        problem = motion_problem(t)
     from mjstruct.design.search import solve
 
     return solve(problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress)

@@ -52,7 +52,7 @@ MARGIN_SLACK = -1e-9
 #: local-stage evaluations at most (each: one residual vector, or one Jacobian)
 LOCAL_EVALUATIONS = 60
 #: local searches per restart: from the global best and the next best distinct members
-LOCAL_STARTS = 6
+LOCAL_STARTS = 4
 
 Progress = Callable[[int, int], None]
 
@@ -106,6 +106,11 @@ class FitProblem:
     def start(self) -> FloatArray:
         """The global variables of the starting design."""
         raise NotImplementedError
+
+    def starts(self) -> list[FloatArray]:
+        """Designs the first population must hold: the start, and any exact solution
+        the task kind knows (Freudenstein's, Burmester's)."""
+        return [self.start()]
 
     def assess(self, X: FloatArray) -> Assessment:
         """Energy and margins of every row of ``X`` (one batched evaluation)."""
@@ -211,8 +216,8 @@ def run_once(
     t0 = time.perf_counter()
     problem.evaluations = 0
     lo, hi = problem.bounds()
-    x0 = np.clip(problem.start(), lo, hi)
-    first = problem.assess(x0[None, :])
+    x0 = np.array([np.clip(x, lo, hi) for x in problem.starts()])
+    first = problem.assess(x0[:1])
     batch = _Batch(problem, names=sorted(first.margins))
     history: list[tuple[int, float, float]] = []
     generations = int(solver["generations"])
@@ -246,7 +251,7 @@ def run_once(
         updating="deferred",
         vectorized=True,
         callback=record,
-        strategy=str(solver.get("strategy", "best1bin")),
+        strategy=str(solver.get("strategy", "rand1bin")),
         **kwargs,
     )
     outcomes = [problem.finish(np.asarray(de.x, float), local=False)]
@@ -293,7 +298,7 @@ def screened_start(
     ones by energy first, then the others by their worst margin)."""
     members = max(members, 5)
     sample = latin_hypercube(SCREEN * members, len(lo), np.random.default_rng(seed))
-    X = np.vstack([x0[None, :], lo + (hi - lo) * sample])
+    X = np.vstack([np.atleast_2d(x0), lo + (hi - lo) * sample])
     a = problem.assess(X)
     problem.evaluations += len(X)
     worst = np.full(len(X), np.inf)

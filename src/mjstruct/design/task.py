@@ -68,6 +68,7 @@ KNOWN_KEYS = frozenset(
         "targets",
         "timing",
         "timing_offset",
+        "angle_offset",
         "region",
         "lengths",
         "fixed",
@@ -80,8 +81,8 @@ KNOWN_KEYS = frozenset(
 )
 #: keys of the optional ``solver`` table and their defaults
 SOLVER_DEFAULTS: dict[str, int | float] = {
-    "population": 12,  # members per design variable (scipy's popsize)
-    "generations": 300,  # at most, per global search
+    "population": 8,  # members per design variable (scipy's popsize)
+    "generations": 150,  # at most, per global search
     "restarts": 2,  # independent global searches (seeds derived from the task's seed)
     "samples": 72,  # path samples over a driver cycle (untimed matching, range checks)
     "tol": 1e-7,  # relative convergence of the global search
@@ -103,7 +104,10 @@ class Task:
     targets : one row per target: [x, y] (path), [q, angle] (function), [x, y, angle]
         (motion).
     timing : the driver value at each target (path, motion), or None (untimed).
-    timing_offset : the timing is relative (a common offset is free).
+    timing_offset : the timing is relative (a common offset is free); for a function
+        task, the targets' driver values are.
+    angle_offset : function: the targets' output angles are relative (a common offset
+        is free).
     region : joint or point id -> ((xmin, ymin), (xmax, ymax)).
     lengths : (min, max) of every distance between two joints or points of one link.
     fixed : ids of joints and points that keep their starting position.
@@ -125,6 +129,7 @@ class Task:
     targets: FloatArray = field(default_factory=lambda: np.zeros((0, 2)))
     timing: FloatArray | None = None
     timing_offset: bool = False
+    angle_offset: bool = False
     region: Mapping[str, tuple[tuple[float, float], tuple[float, float]]] = field(
         default_factory=dict
     )
@@ -227,8 +232,11 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
         link = _output_link(data, m)
     timing = _timing(data, len(targets)) if kind != "function" else None
     offset = _flag(data, "timing_offset")
-    if offset and timing is None:
+    if offset and timing is None and kind != "function":
         raise MechanismError("timing_offset: needs a timing list")
+    angle_offset = _flag(data, "angle_offset")
+    if angle_offset and kind != "function":
+        raise MechanismError("angle_offset: only for a function task")
     if kind == "function" and "timing" in data:
         raise MechanismError("timing: a function task's targets carry their driver values")
     region = _region(data, m)
@@ -254,6 +262,7 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
         targets,
         timing,
         offset,
+        angle_offset,
         region,
         lengths,
         fixed,

@@ -1,0 +1,307 @@
+"""Path synthesis of four-bars: mjstruct synthesize against a plain differential
+evolution on the textbook closed-form objective, on standard problems from the
+literature; and the cost of one batched evaluation of a population.
+
+Problems (targets as given in the literature; bounds chosen here, see
+docs/synthesis-design.md):
+
+* ``line6``: six collinear points (20, 20) … (20, 45), untimed;
+* ``curve18``: the 18-point closed curve of [Kunjur 1997] as used by [Cabrera 2002],
+  untimed;
+* ``ellipse10``: ten points on an ellipse [Ullah 1997], untimed;
+* ``timed5``: five points (20, 20) … (20, 40) at crank angles π/6 … π/2 from the frame
+  line (frame angle free), timed.
+
+Each is a Grashof crank-rocker with the coupler point C.  The baseline is scipy's
+``differential_evolution`` with its defaults on the closed form used by the papers:
+variables r1 (frame), r2 (crank), r3 (coupler), r4 (rocker), rcx, rcy (C in the
+coupler's frame), θ0 (frame angle), x0, y0 (crank pivot) and, for untimed targets,
+the crank angle θ2 of each target; the crank-rocker condition and the order of the
+θ2 by penalties.  mjstruct gets the same targets and requirement as a task file.
+Both answers are scored alike: the sum of squared distances between the targets and
+the coupler point where the design meets them (mjstruct's by its own verdict; the
+baseline's by the closed form, kept only when it is a crank-rocker with its θ2 in
+order, else reported infeasible).
+
+Run: ``python benchmarks/bench_synthesis.py [--seeds 5] [--problems line6,timed5]
+[--batch-only]``.  Prints per problem and seed, then medians and the ratios.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+from typing import Any
+
+import numpy as np
+
+PROBLEMS: dict[str, dict[str, Any]] = {
+    "line6": {
+        "targets": [(20.0, 20.0 + 5 * k) for k in range(6)],
+        "timing": None,
+        "r": (5.0, 60.0),
+        "box": 60.0,
+    },
+    "curve18": {
+        "targets": [
+            (0.5, 1.1),
+            (0.4, 1.1),
+            (0.3, 1.1),
+            (0.2, 1.0),
+            (0.1, 0.9),
+            (0.05, 0.75),
+            (0.02, 0.6),
+            (0.0, 0.5),
+            (0.0, 0.4),
+            (0.03, 0.3),
+            (0.1, 0.25),
+            (0.15, 0.2),
+            (0.2, 0.3),
+            (0.3, 0.4),
+            (0.4, 0.5),
+            (0.5, 0.7),
+            (0.6, 0.9),
+            (0.6, 1.0),
+        ],
+        "timing": None,
+        "r": (0.05, 5.0),
+        "box": 5.0,
+    },
+    "ellipse10": {
+        "targets": [
+            (20.0, 10.0),
+            (17.66, 15.142),
+            (11.736, 17.878),
+            (5.0, 16.928),
+            (0.60307, 12.736),
+            (0.60307, 7.2638),
+            (5.0, 3.0718),
+            (11.736, 2.1215),
+            (17.66, 4.8577),
+            (20.0, 10.0),
+        ],
+        "timing": None,
+        "r": (5.0, 80.0),
+        "box": 80.0,
+    },
+    "timed5": {
+        "targets": [(20.0, 20.0 + 5 * k) for k in range(5)],
+        "timing": [math.pi / 6, math.pi / 4, math.pi / 3, 5 * math.pi / 12, math.pi / 2],
+        "r": (5.0, 60.0),
+        "box": 60.0,
+    },
+}
+
+PENALTY = 1e4
+
+
+# -- the baseline: the textbook closed form ------------------------------------------
+
+
+def closed_form(x: np.ndarray, theta2: np.ndarray) -> np.ndarray:
+    """Coupler point C (complex) of the four-bar ``x`` at crank angles ``theta2``
+    (from the frame line), open assembly; NaN where it does not assemble."""
+    r1, r2, r3, r4, rcx, rcy, th0, x0, y0 = x[:9]
+    A = r2 * np.exp(1j * theta2)
+    e = r1 - A  # from A to O2 = (r1, 0)
+    f = np.abs(e)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos_a = (r3 * r3 + f * f - r4 * r4) / (2 * r3 * f)
+        alpha = np.arccos(cos_a)
+    th3 = np.angle(e) + alpha
+    C = A + (rcx + 1j * rcy) * np.exp(1j * th3)
+    return complex(x0, y0) + C * np.exp(1j * th0)
+
+
+def _grashof_violation(x: np.ndarray) -> float:
+    r1, r2, r3, r4 = x[:4]
+    s, lng = min(r1, r2, r3, r4), max(r1, r2, r3, r4)
+    grashof = max(0.0, s + lng - (r1 + r2 + r3 + r4 - s - lng))
+    crank = max(0.0, r2 - min(r1, r3, r4))
+    return grashof + crank
+
+
+def _order_violation(theta2: np.ndarray) -> float:
+    """θ2 must increase once around the turn (in either sense, as the papers allow)."""
+    steps = np.mod(np.diff(theta2), 2 * math.pi)
+    forward = max(0.0, steps.sum() - 2 * math.pi)
+    back = max(0.0, np.mod(-np.diff(theta2), 2 * math.pi).sum() - 2 * math.pi)
+    return min(forward, back)
+
+
+def baseline_objective(x: np.ndarray, targets: np.ndarray, timing: list[float] | None) -> float:
+    theta2 = np.asarray(timing) if timing is not None else x[9:]
+    C = closed_form(x, theta2)
+    err = np.abs(C - targets) ** 2
+    f = float(err.sum()) if np.isfinite(err).all() else 1e6
+    v = _grashof_violation(x) + (0.0 if timing is not None else _order_violation(theta2))
+    return f + PENALTY * v
+
+
+def run_baseline(name: str, seed: int) -> tuple[float, float]:
+    """Plain differential evolution (scipy's defaults): (sum of squared errors, s)."""
+    from scipy.optimize import differential_evolution
+
+    p = PROBLEMS[name]
+    targets = np.array([complex(*t) for t in p["targets"]])
+    lo, hi = p["r"]
+    box = p["box"]
+    bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
+    if p["timing"] is None:
+        bounds += [(0.0, 2 * math.pi)] * len(targets)
+    t0 = time.perf_counter()
+    r = differential_evolution(baseline_objective, bounds, args=(targets, p["timing"]), seed=seed)
+    seconds = time.perf_counter() - t0
+    x = r.x
+    theta2 = np.asarray(p["timing"]) if p["timing"] is not None else x[9:]
+    feasible = _grashof_violation(x) <= 1e-9 and (
+        p["timing"] is not None or _order_violation(theta2) <= 1e-9
+    )
+    err = float((np.abs(closed_form(x, theta2) - targets) ** 2).sum())
+    return (err if feasible and math.isfinite(err) else math.inf), seconds
+
+
+# -- mjstruct ---------------------------------------------------------------------------
+
+
+def task_for(name: str, solver: dict[str, int] | None = None) -> dict[str, Any]:
+    """The problem as a task file: a crank-rocker started near the targets."""
+    p = PROBLEMS[name]
+    t = np.array(p["targets"])
+    c = t.mean(axis=0)
+    s = float(np.ptp(t, axis=0).max())
+    O1 = c + s * np.array([-0.6, -0.8])
+    A = O1 + 0.25 * s * np.array([0.5, 0.866])
+    B = O1 + s * np.array([0.9, 0.7])
+    O2 = O1 + s * np.array([1.0, 0.0])
+    C = (A + B) / 2 + s * np.array([-0.2, 0.4])
+    box = p["box"]
+    reach = box + p["r"][1]
+    mech = {
+        "name": f"{name}-start",
+        "frame": "0",
+        "drivers": ["O1"],
+        "joints": [
+            {"id": "O1", "links": ["0", "1"], "at": O1.tolist()},
+            {"id": "A", "links": ["1", "2"], "at": A.tolist()},
+            {"id": "B", "links": ["2", "3"], "at": B.tolist()},
+            {"id": "O2", "links": ["3", "0"], "at": O2.tolist()},
+        ],
+        "points": [{"id": "C", "link": "2", "at": C.tolist()}],
+    }
+    far = [[-reach, -reach], [reach, reach]]
+    task: dict[str, Any] = {
+        "task": "path",
+        "mechanism": mech,
+        "point": "C",
+        "targets": [list(v) for v in p["targets"]],
+        "motion": "crank-rocker",
+        "region": {"O1": [[-box, -box], [box, box]], "A": far, "B": far, "O2": far, "C": far},
+    }
+    if p["timing"] is not None:
+        task["timing"] = p["timing"]
+        task["timing_offset"] = True
+    if solver:
+        task["solver"] = solver
+    return task
+
+
+def run_mjstruct(
+    name: str, seed: int, solver: dict[str, int] | None = None
+) -> tuple[float, float]:
+    from mjstruct.design.api import synthesize
+
+    t0 = time.perf_counter()
+    r = synthesize(task_for(name, solver), seed=seed)
+    seconds = time.perf_counter() - t0
+    return float(sum(e * e for e in r.errors)), seconds
+
+
+# -- one population in one call ----------------------------------------------------------
+
+
+def batch_ratio(candidates: int = 64, targets: int = 36, repeat: int = 21) -> None:
+    """64 candidates x 36 targets in one kinematics call against the numpy floor of one
+    candidate x 36 targets, 64 sequential calls (the closed form above)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from mjstruct.design.population import DesignSpace
+    from mjstruct.design.task import task_from_dict
+    from mjstruct.kinematics.model import KinematicModel
+    from timing import race
+
+    task = task_from_dict(task_for("line6"))
+    assert task.mechanism is not None
+    model = KinematicModel.build(task.mechanism)
+    space = DesignSpace.build(model, task.region, ())
+    rng = np.random.default_rng(0)
+    X = space.x0 + 0.05 * model.scale * rng.standard_normal((candidates, space.size))
+    theta = np.linspace(0, 2 * math.pi, targets, endpoint=False)
+    xs = [np.array([40, 10, 40, 35, 5, 10, 0.1, 0, 0], float) + rng.random(9) for _ in X]
+
+    def batched() -> Any:
+        pop = space.population(X, targets)
+        ev = pop.evaluate(pop.cycle(), order=0)
+        return pop.where(ev, "C")
+
+    def sequential() -> Any:
+        return [closed_form(x, theta) for x in xs]
+
+    tb, ts = race([batched, sequential], repeat, clock=time.process_time)
+    print(
+        f"one call, {candidates} candidates x {targets} targets: {tb * 1e3:.2f} ms; "
+        f"closed form, {candidates} sequential calls of {targets} targets: {ts * 1e3:.2f} ms; "
+        f"ratio {tb / ts:.2f} (goal <= 3)"
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--problems", default=",".join(PROBLEMS))
+    ap.add_argument("--batch-only", action="store_true")
+    ap.add_argument("--no-baseline", action="store_true")
+    args = ap.parse_args()
+    batch_ratio()
+    if args.batch_only:
+        return
+    import scipy.optimize  # noqa: F401
+
+    import mjstruct.design.api  # noqa: F401  (imports outside the timings)
+
+    rows = []
+    for name in args.problems.split(","):
+        ours, base = [], []
+        for seed in range(args.seeds):
+            f, t = run_mjstruct(name, seed)
+            ours.append((f, t))
+            line = f"{name} seed {seed}: mjstruct {f:.4g} in {t:.1f} s"
+            if not args.no_baseline:
+                fb, tb = run_baseline(name, seed)
+                base.append((fb, tb))
+                line += f"; plain DE {fb:.4g} in {tb:.1f} s"
+            print(line, flush=True)
+        mo = statistics.median(f for f, _ in ours)
+        mt = statistics.median(t for _, t in ours)
+        row = [name, mo, mt]
+        if base:
+            bo = statistics.median(f for f, _ in base)
+            bt = statistics.median(t for _, t in base)
+            row += [bo, bt]
+        rows.append(row)
+    print("\nproblem     mjstruct f (median)  time    plain DE f (median)  time    time ratio")
+    for row in rows:
+        if len(row) == 5:
+            name, mo, mt, bo, bt = row
+            print(f"{name:10s}  {mo:19.4g}  {mt:6.1f}  {bo:19.4g}  {bt:6.1f}  {mt / bt:9.3f}")
+        else:
+            name, mo, mt = row
+            print(f"{name:10s}  {mo:19.4g}  {mt:6.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,159 @@
+"""Function synthesis: an output link's angle as a prescribed function of the driver.
+
+Owns :func:`function_problem` (the task as a :class:`~mjstruct.design.track.
+TrackProblem` whose targets are angles of the output link at the targets' driver
+values; ``timing_offset`` / ``angle_offset`` make either column relative) and
+:func:`freudenstein`, the exact start where it applies: for a hinged four-bar driven
+at one frame pivot whose output is the link hinged at the other, Freudenstein's
+equation
+
+    K1 cos ψ − K2 cos φ + K3 = cos(φ − ψ),  K1 = d/a, K2 = d/c,
+    K3 = (a² − b² + c² + d²) / (2 a c)
+
+(φ the crank's and ψ the output's direction from the frame line, a, b, c, d the crank,
+coupler, output and frame lengths) is linear in K1, K2, K3: three precision points
+fix them exactly [Freudenstein 1955], more are fitted by linear least squares.  With
+the frame pivots of the starting mechanism kept, each gives a four-bar assembled at
+the first target; both join the global search's first population and its local
+starts, and the least squares over all points on the true angle errors follows.
+
+References
+----------
+.. [1] F. Freudenstein, "Approximate synthesis of four-bar linkages", Transactions of
+   the ASME, 77, 1955. [Freudenstein 1955] in docs/references.md.
+
+Examples
+--------
+Three precision points of a known four-bar give back its lengths:
+
+>>> import math
+>>> a, b, c, d = 0.3, 1.0, 0.8, 1.0
+>>> def psi(phi):  # the output's direction, open assembly, by the law of cosines
+...     A = complex(a * math.cos(phi), a * math.sin(phi))
+...     e = complex(d, 0) - A
+...     f = abs(e)
+...     beta = math.acos((c * c + f * f - b * b) / (2 * c * f))
+...     import cmath
+...     return cmath.phase(-e) - beta
+>>> phis = [0.3, 1.2, 2.0]
+>>> K = freudenstein(phis, [psi(p) for p in phis])
+>>> [round(x, 9) for x in lengths_of(K, d)]
+[0.3, 1.0, 0.8]
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from mjstruct.design.population import DesignSpace
+from mjstruct.design.task import Task, is_fourbar
+from mjstruct.design.track import TrackProblem
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.typing import FloatArray
+
+
+def freudenstein(
+    phi: Sequence[float] | FloatArray, psi: Sequence[float] | FloatArray
+) -> tuple[float, float, float]:
+    """K1, K2, K3 of Freudenstein's equation through the (φ, ψ) pairs: exact for three,
+    least squares for more."""
+    p, s = np.asarray(phi, float), np.asarray(psi, float)
+    M = np.column_stack([np.cos(s), -np.cos(p), np.ones_like(p)])
+    rhs = np.cos(p - s)
+    K = np.linalg.lstsq(M, rhs, rcond=None)[0]
+    return float(K[0]), float(K[1]), float(K[2])
+
+
+def lengths_of(K: tuple[float, float, float], d: float) -> tuple[float, float, float] | None:
+    """Crank a, coupler b and output c from K1, K2, K3 and the frame d (None: no
+    four-bar, a length that is not positive)."""
+    K1, K2, K3 = K
+    if K1 <= 0 or K2 <= 0:
+        return None
+    a, c = d / K1, d / K2
+    b2 = a * a + c * c + d * d - 2 * a * c * K3
+    if b2 <= 0:
+        return None
+    return a, math.sqrt(b2), c
+
+
+def _fourbar_joints(task: Task) -> tuple[str, str, str, str] | None:
+    """(O1, A, B, O2) when Freudenstein applies to the task's mechanism and output."""
+    m = task.mechanism
+    if m is None or not is_fourbar(m) or task.link is None:
+        return None
+    driver = m.joint(m.drivers[0])
+    if m.frame not in driver.links:
+        return None
+    other = next(j for j in m.joints if m.frame in j.links and j.id != driver.id)
+    if task.link not in other.links:
+        return None
+    crank = next(x for x in driver.links if x != m.frame)
+    A = next(j for j in m.joints if crank in j.links and j.id != driver.id)
+    B = next(j for j in m.joints if task.link in j.links and j.id != other.id)
+    return driver.id, A.id, B.id, other.id
+
+
+def freudenstein_starts(problem: TrackProblem) -> list[FloatArray]:
+    """The global variables of the four-bars Freudenstein's equation gives: three
+    precision points (first, middle, last target) exactly, and all targets by linear
+    least squares; the frame pivots kept, assembled at the first target."""
+    task = problem.task
+    joints = _fourbar_joints(task)
+    if joints is None or problem.angles is None or problem.timing is None:
+        return []
+    _O1n, An, Bn, _O2n = joints
+    space, model = problem.space, problem.space.model
+    g = model.geometry
+    start = problem.start()
+    k = space.size
+    qoff = start[k] if problem.offset else 0.0
+    aoff = start[k + int(problem.offset)] if problem.angle_offset else 0.0
+    q = problem.timing + qoff
+    out_angle = problem.angles + aoff
+    O1, A0, B0, O2 = (g.centres[j] for j in joints)
+    c1 = cmath.phase(A0 - O1) - float(model.q_ref[0])  # crank direction = q + c1
+    c3 = g.char_angle[task.link or ""] - cmath.phase(B0 - O2)  # output angle = ψ + c3
+    beta, d = cmath.phase(O2 - O1), abs(O2 - O1)
+    phi = q + c1 - beta
+    psi = out_angle - c3 - beta
+    T = len(q)
+    picks = [[0, T // 2, T - 1]] if T >= 3 else []
+    if T > 3:
+        picks.append(list(range(T)))
+    starts = []
+    for idx in picks:
+        L = lengths_of(freudenstein(phi[idx], psi[idx]), d)
+        if L is None:
+            continue
+        a, _, c = L
+        pos = dict(space.start)
+        pos[An] = O1 + a * cmath.exp(1j * (beta + phi[0]))
+        pos[Bn] = O2 + c * cmath.exp(1j * (beta + psi[0]))
+        x = [v for n in space.names for v in (pos[n].real, pos[n].imag)]
+        starts.append(np.concatenate([x, start[k:]]))
+    return starts
+
+
+def function_problem(task: Task) -> TrackProblem:
+    """The function task ``task`` ready for :func:`~mjstruct.design.search.solve`."""
+    assert task.kind == "function" and task.mechanism is not None
+    model = KinematicModel.build(task.mechanism)
+    space = DesignSpace.build(model, task.region, task.fixed, margin=1.0)
+    problem = TrackProblem(
+        task,
+        None,
+        None,
+        task.link,
+        task.targets[:, 1].copy(),
+        1.0,
+        task.targets[:, 0].copy(),
+        angle_offset=task.angle_offset,
+        space=space,
+    )
+    problem.extra_starts = freudenstein_starts(problem)
+    return problem
