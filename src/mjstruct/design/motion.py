@@ -21,7 +21,7 @@ Examples
 ...                     "targets": [[0.4, 0.6, 0.5], [0.2, 0.9, 0.7]], "timing": [1, 2]})
 >>> p = motion_problem(t)
 >>> p.link, p.targets, round(p.weight, 3)
-('2', 2, 1.0)
+('2', 2, 1.073)
 """
 
 from __future__ import annotations
