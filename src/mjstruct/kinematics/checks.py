@@ -97,7 +97,8 @@ def plan_determinant(motion: Motion) -> tuple[FloatArray, FloatArray]:
             logabs += np.log(np.abs(det))
         if motion.closure is not None:
             t = np.where(np.isfinite(motion.closure.t), motion.closure.t, 0.0)
-            _, Rt = closure_jacobian(motion.model, q, t)
+            # the closure's inner dyads in their modes of each frame
+            _, Rt = closure_jacobian(motion.model, q, t, motion.closure.modes or None)
             if Rt.shape[1] != Rt.shape[2]:
                 return np.full(F, np.nan), np.full(F, np.nan)
             s, lg = batched_det(Rt)
