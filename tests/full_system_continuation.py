@@ -230,7 +230,7 @@ def reach(
     system: FullSystem,
     q: npt.ArrayLike,
     h_max: float = 2e-3,
-    h_min: float = 1e-7,
+    h_min: float = 1e-10,
 ) -> dict[int, Reached]:
     """The frames of driver values ``q`` reached from the reference, by frame index.
 
