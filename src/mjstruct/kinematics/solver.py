@@ -273,6 +273,7 @@ def _tail_closure(c: Closure, n: int) -> Closure:
         error=c.error[n:],
         converged=c.converged[n:],
         jumps=tuple(i - n for i in c.jumps if i >= n),
+        modes={k: v[n:] for k, v in c.modes.items()},
     )
 
 
