@@ -37,7 +37,8 @@ def _transformed(name: str, scale: float, offset: complex = 0j) -> dict[str, Any
 def _run(capsys, tmp_path: Path, data: dict[str, Any], scale: float) -> tuple[int, Any, str]:
     path = tmp_path / "m.json"
     path.write_text(json.dumps(data))
-    argv = ["kinematics", str(path), "--frames", str(FRAMES), "--json"]
+    # --full-checks: the constraint Jacobian's rank too (it mixed units before)
+    argv = ["kinematics", str(path), "--frames", str(FRAMES), "--full-checks", "--json"]
     status = main(argv)
     out, err = capsys.readouterr()
     return status, json.loads(out) if status == 0 else None, err
@@ -70,6 +71,7 @@ def _disagreement(got: Any, ref: Any, scale: float, offset: complex = 0j) -> flo
 def test_every_scale_is_exact_up_to_scaling_or_refused(name, tmp_path, capsys) -> None:
     status, ref, err = _run(capsys, tmp_path, _transformed(name, 1.0), 1.0)
     assert status == 0, err
+    assert ref["checks"]["jacobian"]["rank"], "the rank is checked"
     size = max(
         abs(complex(*a["at"]) - complex(*b["at"]))
         for a in _transformed(name, 1.0)["joints"]
