@@ -15,6 +15,7 @@ import numpy as np
 from mjstruct.plot.forces import FORCE_LAYERS
 from mjstruct.plot.layout import (
     ROW,
+    footer_line,
     footer_slot,
     keyed_layers,
     legend_place,
@@ -102,9 +103,18 @@ class AnnotationArtists:
             [], [], ls="none", marker="*", ms=16, color=DRIVER_COLOUR, alpha=0.7, zorder=8,
             gid="branch:star",
         )  # fmt: skip
+        slots = len(keyed_layers(scene.layers, scene.arrow_scale)) + len(self.couples)
+        lines = 0
+        if scene.targets is not None:
+            from mjstruct.plot.targets import TARGET_COLOUR
+
+            x, y = footer_line(scene, slots, self.xlim)
+            ax.text(x, y, scene.targets.describe(), ha="left", va="center", fontsize=8,
+                    color=TARGET_COLOUR, gid="targets:about")  # fmt: skip
+            lines = 1
         if "assur" in scene.layers:
-            slots = len(keyed_layers(scene.layers, scene.arrow_scale)) + len(self.couples)
-            draw_assur_legend(ax, scene, colours, legend_place(scene, slots, self.xlim))
+            corner = legend_place(scene, slots, self.xlim, lines)
+            draw_assur_legend(ax, scene, colours, corner)
         draw_scale_bar(ax, scene, self.xlim)
         self.title = self.subtitle = None
         if title:

@@ -55,6 +55,7 @@ from mjstruct.plot.style import (
     PIN,
     VELOCITY_COLOUR,
 )
+from mjstruct.plot.targets import draw_targets
 from mjstruct.plot.vectors import VectorArtists
 
 if TYPE_CHECKING:
@@ -102,6 +103,8 @@ class SceneArtists:
         ax.set_axis_off()
         colours = link_colours(scene)
         self.scheme = SchemeArtists(ax, scene, colours)
+        if scene.targets is not None:  # fixed: the same at every frame
+            draw_targets(ax, scene.targets, scene.model.scale)
         self.vectors = VectorArtists(ax, scene)
         quivers = {layer: q for layer, (q, _, _) in self.vectors.layers.items()}
         self.annotations = AnnotationArtists(

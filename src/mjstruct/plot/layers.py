@@ -17,7 +17,7 @@ Examples
 Traceback (most recent call last):
 ...
 mjstruct.errors.MechanismError: show: unknown layer 'speed' (known: acceleration, assur, \
-inertia, loads, paths, reactions, velocity)
+inertia, loads, paths, reactions, targets, velocity)
 """
 
 from __future__ import annotations
@@ -57,6 +57,7 @@ LAYERS: dict[str, Layer] = {
         Layer("loads", 0, True, "applied forces and moments (dynamics plug-in)"),
         Layer("inertia", 2, True, "inertia forces and moments (dynamics plug-in)"),
         Layer("reactions", 0, True, "joint reactions (dynamics plug-in)"),
+        Layer("targets", 0, False, "a synthesised mechanism's targets (shown with paths)"),
     )
 }
 

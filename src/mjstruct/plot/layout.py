@@ -40,15 +40,17 @@ def drawing_limits(
     forces: dict[str, ForceLayer],
     arrow_scale: dict[str, float],
     legend: int = 0,
+    lines: int = 0,
 ) -> tuple[tuple[float, float, float, float], float]:
     """(limits (x0, x1, y0, y1), footer height) of a drawing whose points are ``cloud``.
 
     ``cloud`` holds every drawn position over the frames shown (finite values only);
-    ``legend`` is the number of entries of the Assur legend, set below the keys.
+    ``legend`` is the number of entries of the Assur legend, set below the keys, after
+    ``lines`` full-width lines of text (what a synthesised mechanism's targets are).
     """
     pad = PAD * scale
     x0, x1 = float(cloud.real.min() - pad), float(cloud.real.max() + pad)
-    rows = footer_rows(layers, forces, arrow_scale) + legend_rows(legend)
+    rows = footer_rows(layers, forces, arrow_scale) + lines + legend_rows(legend)
     footer = (rows + 0.6) * ROW * (x1 - x0)
     limits = (x0, x1, float(cloud.imag.min() - pad - footer), float(cloud.imag.max() + pad))
     return limits, footer
@@ -123,12 +125,22 @@ def scale_bar_place(
 
 
 def legend_place(
-    scene: Scene, slots: int, xlim: tuple[float, float] | None = None
+    scene: Scene, slots: int, xlim: tuple[float, float] | None = None, lines: int = 0
 ) -> tuple[float, float]:
-    """Top-left corner of the Assur legend: below the footer's ``slots`` keys and values."""
+    """Top-left corner of the Assur legend: below the footer's ``slots`` keys and values
+    and ``lines`` lines of text."""
     x0, w = _across(scene, xlim)
     top, row = _footer_top(scene)
-    return x0 + 0.04 * w, top - max(2, -(-slots // 2)) * row
+    return x0 + 0.04 * w, top - (max(2, -(-slots // 2)) + lines) * row
+
+
+def footer_line(
+    scene: Scene, slots: int, xlim: tuple[float, float] | None = None
+) -> tuple[float, float]:
+    """Where a full-width line of the footer starts: below the ``slots`` keys."""
+    x0, w = _across(scene, xlim)
+    top, row = _footer_top(scene)
+    return x0 + 0.04 * w, top - (max(2, -(-slots // 2)) + 0.5) * row
 
 
 #: the drawing's height (inches, title left out) at the usual width of 7 inches, at most

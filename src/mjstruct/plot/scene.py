@@ -37,6 +37,7 @@ from mjstruct.plot.forces import ForceLayer, force_layers
 from mjstruct.plot.layers import kinematic_order, parse_layers
 from mjstruct.plot.layout import drawing_limits
 from mjstruct.plot.style import ARROW, PIN
+from mjstruct.plot.targets import SynthesisTargets, synthesis_targets
 from mjstruct.typing import ComplexArray, IntArray
 
 if TYPE_CHECKING:
@@ -65,7 +66,9 @@ class Scene:
         scale for every force layer).
     decomposition : the Assur decomposition (``assur`` layer).
     forces : force layer -> its arrows and couples (dynamics plug-in).
-    footer : height (length units) of the band below the mechanism that ``limits``
+    targets : the synthesis task's targets (``targets`` layer, also shown with
+        ``paths`` when the file has them).
+    footer : height (length units) of the band below the mechanism that ``limits
         keep free for the scale bar, the vector keys and the couples' values.
     """
 
@@ -81,6 +84,7 @@ class Scene:
     decomposition: Decomposition | None = None
     forces: dict[str, ForceLayer] = field(default_factory=dict)
     footer: float = 0.0
+    targets: SynthesisTargets | None = None
 
     @property
     def pin(self) -> float:
@@ -226,11 +230,25 @@ def _scene(
             cloud.append((at + f * arrow_scale["force"])[ok])
     for z in paths.values():
         cloud.append(z[np.isfinite(z)])
+    targets = synthesis_targets(m) if "targets" in layers or "paths" in layers else None
+    if "targets" in layers and targets is None:
+        raise MechanismError(
+            "show: layer 'targets' needs a synthesised mechanism file (targets under its "
+            "'synthesis' key)"
+        )
+    if targets is not None:
+        cloud.append(targets.points)
     allz = np.concatenate(cloud)
     legend = 0 if decomposition is None else 1 + len(decomposition.initial)
     legend += 0 if decomposition is None else len(decomposition.groups)
     limits, footer = drawing_limits(
-        allz[np.isfinite(allz)], model.scale, layers, forces, arrow_scale, legend
+        allz[np.isfinite(allz)],
+        model.scale,
+        layers,
+        forces,
+        arrow_scale,
+        legend,
+        lines=int(targets is not None),
     )
     return Scene(
         model,
@@ -245,6 +263,7 @@ def _scene(
         decomposition,
         forces,
         footer,
+        targets,
     )
 
 
