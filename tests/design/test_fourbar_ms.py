@@ -276,3 +276,44 @@ def test_mechanism_helper_matches_requirement_lengths():
     at = {j.id: complex(*j.at) for j in m.joints}
     assert abs(at["B"] - at["O2"]) == pytest.approx(3.0)
     assert m.drivers == ("O1",) and m.frame == "0"
+
+
+# ---------------------------------------------------------------- the command line
+
+
+def test_cli_synthesize_fourbar_ms_writes_the_mechanism(tmp_path, capsys):
+    import json
+
+    from mjstruct.cli.main import main
+
+    task = tmp_path / "ms.json"
+    task.write_text(
+        json.dumps(
+            {"task": "fourbar-ms", "change_point": "4.2", "swing_deg": 141.06, "clearance": 0.01}
+        )
+    )
+    out = tmp_path / "designed.json"
+    assert main(["synthesize", str(task), "-o", str(out), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["task"] == "fourbar-ms" and d["feasible"] and d["max_error"] < 1e-9
+    assert d["details"]["MS"] == pytest.approx([0.5, 1.0000903914, 1.5000903914], rel=1e-9)
+    assert all(p["zone"] for p in d["details"]["singular"]["singular"])
+    # the written file is the designed mechanism: the singular command reads it back
+    assert main(["singular", str(out), "--json"]) == 0
+    back = json.loads(capsys.readouterr().out)
+    assert back["fourbar"]["swing"] == pytest.approx(math.radians(141.06), abs=1e-12)
+    assert back["fourbar"]["system4"] == [2]
+
+
+def test_cli_requirement_no_four_bar_meets_is_exit_2_and_nothing_written(tmp_path, capsys):
+    import json
+
+    from mjstruct.cli.main import main
+
+    task = tmp_path / "ms.json"
+    task.write_text(json.dumps({"task": "fourbar-ms", "change_point": "4.2", "swing_deg": 200}))
+    out = tmp_path / "designed.json"
+    assert main(["synthesize", str(task), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "swing_deg: no crank-rocker on (4.2)" in err
+    assert not out.exists()
