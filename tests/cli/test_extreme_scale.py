@@ -140,3 +140,22 @@ def test_the_range_keeps_the_triangles_cubes_normal() -> None:
     huge = 1e12 * (REACH * hi) ** 3
     assert tiny > 1e30 * np.finfo(float).tiny and huge < np.finfo(float).max / 1e30
     assert math.isclose(lo * hi, 1.0)
+
+
+def test_a_guide_direction_of_any_length_is_the_same_guide(tmp_path, capsys) -> None:
+    # before: an axis (1e308, 1e308) had an infinite length and became (0, 0), giving
+    # a 'singular frame' and nulls; (5e-324, 5e-324) kept a length of 1.41
+    def sweep(axis: list[float]) -> Any:
+        data = _transformed("slider-crank", 1.0)
+        for joint in data["joints"]:
+            if joint.get("type") == "P":
+                joint["axis"] = axis
+        status, got, err = _run(capsys, tmp_path, data, 1.0)
+        assert status == 0, err
+        return got
+
+    ref = sweep([1.0, 0.25])
+    for factor in (1e308, 1e200, 1e-300, 5e-324 / 0.25):
+        got = sweep([factor, factor * 0.25])
+        assert _disagreement(got, ref, 1.0) < 1e-14, factor
+        assert got["warnings"] == ref["warnings"]

@@ -13,6 +13,7 @@ import contextlib
 import io
 import json
 import os
+import re
 import signal
 import sys
 from pathlib import Path
@@ -37,6 +38,8 @@ BASE: dict[str, Any] = json.loads(example_path("slider-crank-seed000-dynamics").
 
 COMMANDS = {
     "kinematics": ["--frames", "6", "--json"],
+    # the text form: no "max error inf ... warnings: none" (a point at [1e200, 1e200])
+    "kinematics-text": ["--frames", "6"],
     "singular": ["--json"],
     "dynamics-speed": ["--frames", "6", "--speed", "1", "--json"],
     "dynamics-free": ["--frames", "6", "--qdot0", "1", "--json"],
@@ -112,7 +115,16 @@ def _run(tmp: Path, data: dict[str, Any], command: str) -> None:
     assert status in (0, 2) or trouble, f"{message} on {json.dumps(data)[:300]}"
     assert message.count("\n") == (status != 0), message
     if status == 0:
-        json.loads(out.getvalue(), parse_constant=lambda c: pytest.fail(f"{c} in JSON output"))
+        _answer(out.getvalue(), command)
+
+
+def _answer(text: str, command: str) -> None:
+    """The JSON object without NaN or Infinity; a text report without inf or nan."""
+    if command.endswith("-text"):
+        bad = re.search(r"(?<![\w.])-?(inf|nan)(?![\w])", text)
+        assert bad is None, f"{bad.group() if bad else ''} in the text report:\n{text}"
+    else:
+        json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON output"))
 
 
 FUZZ = settings(
@@ -126,7 +138,7 @@ FUZZ = settings(
 @FUZZ
 @given(
     st.lists(st.tuples(st.sampled_from(ALL_PATHS), VALUES), min_size=1, max_size=2),
-    st.sampled_from(["kinematics", "singular"]),
+    st.sampled_from(["kinematics", "kinematics-text", "singular"]),
 )
 def test_any_value_for_kinematics_and_singular(
     tmp_path: Path, edits: list[tuple[tuple[Any, ...], Any]], command: str
@@ -177,7 +189,9 @@ def test_the_unchanged_file_is_answered(
     path = tmp_path / "m.json"
     path.write_text(json.dumps(BASE))
     assert main([command.split("-")[0], str(path), *COMMANDS[command]]) == 0
-    assert json.loads(capsys.readouterr().out)
+    out = capsys.readouterr().out
+    _answer(out, command)
+    assert out.strip()
 
 
 def test_a_complex_load_value_is_bad_input(tmp_path: Path) -> None:

@@ -124,6 +124,20 @@ def _farthest(hull: list[complex]) -> float:
     return best
 
 
+def unit_direction(x: float, y: float) -> complex:
+    """The unit vector along (x, y), for any nonzero components a double holds.
+
+    Divided by the larger component first: ``abs`` of (1e308, 1e308) overflows and
+    of (5e-324, 5e-324) rounds, which made a zero or a longer-than-unit guide.
+
+    >>> unit_direction(1e308, 1e308) == unit_direction(5e-324, 5e-324) == unit_direction(1, 1)
+    True
+    """
+    m = max(abs(x), abs(y))
+    a = complex(x / m, y / m)
+    return a / abs(a)
+
+
 def first_close_pair(
     ids: list[str], centres: dict[str, complex], tol: float
 ) -> tuple[str, str] | None:
@@ -247,8 +261,7 @@ def geometry_of(m: Mechanism, drivers: tuple[str, ...]) -> Geometry:
                 raise MechanismError(
                     f"joints[{k}].links: prismatic joint {j.id!r} must join exactly two links"
                 )
-            a = complex(*j.axis)
-            axes[j.id] = a / abs(a)
+            axes[j.id] = unit_direction(*j.axis)
     scale = diameter(list(centres.values()))
     if scale <= 0.0:
         raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
