@@ -193,6 +193,8 @@ def test_double_rocker_and_double_crank_requirements():
 def test_scale_assembly_reference_coupler_point_and_clearance():
     task = {
         "ms": "MS4",
+        "name": "folding crank-rocker",
+        "description": "MS4 at a fifth of the size",
         "frame_length": 0.2,
         "assembly": -1,
         "reference_deg": 100.0,
@@ -201,6 +203,8 @@ def test_scale_assembly_reference_coupler_point_and_clearance():
     }
     r = synthesize_fourbar_ms(task, seed=7)
     m = r.mechanism
+    assert m.name == "folding crank-rocker"
+    assert mechanism_to_dict(m)["description"] == "MS4 at a fifth of the size"
     at = {j.id: complex(*j.at) for j in m.joints}
     assert abs(at["O2"] - at["O1"]) == pytest.approx(0.2)
     assert abs(at["A"] - at["O1"]) == pytest.approx(0.1)
@@ -257,6 +261,7 @@ def test_scale_assembly_reference_coupler_point_and_clearance():
         ({"ms": "MS4", "frame_length": 0}, "frame_length"),
         ({"ms": "MS4", "reference_deg": 0}, "reference_deg"),
         ({"ms": "MS4", "coupler_point": [1]}, "coupler_point"),
+        ({"ms": "MS4", "description": 3}, "description"),
     ],
 )
 def test_bad_task_input_is_one_line_naming_the_field(task, field):

@@ -50,6 +50,7 @@ Examples
 from __future__ import annotations
 
 import cmath
+import dataclasses
 import itertools
 import math
 import time
@@ -720,6 +721,9 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
     name = task.get("name")
     if name is not None and not isinstance(name, str):
         raise MechanismError(f"name: expected a string, got {name!r}")
+    description = task.get("description")
+    if description is not None and not isinstance(description, str):
+        raise MechanismError(f"description: expected a string, got {description!r}")
 
     requirement: Requirement | None = None
     if "ms" in task:
@@ -743,6 +747,8 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
 
     label = name or (f"fourbar-{ref_name.lower()}" if ref_name else TASK)
     mech = fourbar_mechanism(ms, frame_length, reference_deg, assembly, coupler, label)
+    if description is not None:  # the task's own words replace the generated line
+        mech = dataclasses.replace(mech, extra={**mech.extra, "description": description})
     analysis = singular_analysis(mech, clearance=clearance)
     built = fb  # the matrix's own numbers (the file's coordinates round them)
 
