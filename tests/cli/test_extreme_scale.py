@@ -79,7 +79,7 @@ def test_every_scale_is_exact_up_to_scaling_or_refused(name, tmp_path, capsys) -
     )
     lo, hi = SIZE_RANGE
     seen = {"analysed": 0, "refused": 0}
-    for exponent in [*range(-300, 301, 20), -51, -50, 49, 50, 51]:
+    for exponent in [*range(-300, 301, 30), -51, -50, 49, 50, 51]:
         scale = 10.0**exponent
         status, got, err = _run(capsys, tmp_path, _transformed(name, scale), scale)
         if lo <= size * scale <= hi:
@@ -94,7 +94,7 @@ def test_every_scale_is_exact_up_to_scaling_or_refused(name, tmp_path, capsys) -
             assert err.startswith("mjstruct kinematics: joints.at: the mechanism's size ")
             assert err.count("\n") == 1
             seen["refused"] += 1
-    assert seen["analysed"] >= 6 and seen["refused"] >= 25
+    assert seen["analysed"] >= 5 and seen["refused"] >= 17
 
 
 @pytest.mark.parametrize("name", ["four-bar", "slider-crank"])

@@ -100,7 +100,7 @@ def with_parallels(draw: st.DrawFn, big: bool = True) -> Mechanism:
     return Mechanism(tuple(links), tuple(joints + extra), frame="0", drivers=tuple(drivers))
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(
     with_parallels(),
     with_parallels(),
