@@ -23,6 +23,9 @@ the coupler point where the design meets them (mjstruct's by its own verdict; th
 baseline's by the closed form, kept only when it is a crank-rocker with its θ2 in
 order, else reported infeasible).
 
+Times are the CPU time of this process (``time.process_time``: both run in one
+thread; other jobs on the shared machine disturb it less than the wall clock).
+
 Run: ``python benchmarks/bench_synthesis.py [--seeds 5] [--problems line6,timed5]
 [--batch-only]``.  Prints per problem and seed, then medians and the ratios.
 """
@@ -151,9 +154,9 @@ def run_baseline(name: str, seed: int) -> tuple[float, float]:
     bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
     if p["timing"] is None:
         bounds += [(0.0, 2 * math.pi)] * len(targets)
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     r = differential_evolution(baseline_objective, bounds, args=(targets, p["timing"]), seed=seed)
-    seconds = time.perf_counter() - t0
+    seconds = time.process_time() - t0
     x = r.x
     theta2 = np.asarray(p["timing"]) if p["timing"] is not None else x[9:]
     feasible = _grashof_violation(x) <= 1e-9 and (
@@ -213,9 +216,9 @@ def run_mjstruct(
 ) -> tuple[float, float]:
     from mjstruct.design.api import synthesize
 
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     r = synthesize(task_for(name, solver), seed=seed)
-    seconds = time.perf_counter() - t0
+    seconds = time.process_time() - t0
     return float(sum(e * e for e in r.errors)), seconds
 
 
@@ -259,15 +262,54 @@ def batch_ratio(candidates: int = 64, targets: int = 36, repeat: int = 21) -> No
     )
 
 
+def atlas_case(name: str = "curve18", links: int = 6, workers: int = 2, seed: int = 0) -> None:
+    """Type and dimensional synthesis: every one-DOF chain of ``links`` links (multiple
+    joints included) with each frame, driver and point link, on one problem, ranked."""
+    from mjstruct.design.atlas import synthesize_atlas
+
+    task = task_for(name, {"population": 6, "generations": 60, "restarts": 1})
+    for key in ("region", "motion", "mechanism"):
+        task.pop(key)
+    t0 = time.perf_counter()
+    r = synthesize_atlas(task, links=links, mj=True, seed=seed, workers=workers)
+    wall = time.perf_counter() - t0
+    ranked = [x for x in r.ranked if x.result is not None]
+    print(
+        f"atlas, {name}, {links} links: {len(r.ranked)} candidates, {len(ranked)} feasible, "
+        f"{wall:.1f} s wall on {workers} workers"
+    )
+    for k, x in enumerate(r.ranked[:5], 1):
+        c, res = x.candidate, x.result
+        f = math.inf if res is None else sum(e * e for e in res.errors)
+        print(
+            f"  {k}. {c.name} (frame {c.frame}, driver {c.driver}, point on {c.link}): f = {f:.4g}"
+        )
+    names = sorted({x.candidate.name for x in ranked})
+    best = {
+        n: min(
+            sum(e * e for e in x.result.errors)
+            for x in ranked
+            if x.candidate.name == n and x.result
+        )
+        for n in names
+    }
+    for n in names:
+        print(f"  best {n}: f = {best[n]:.4g}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--problems", default=",".join(PROBLEMS))
     ap.add_argument("--batch-only", action="store_true")
     ap.add_argument("--no-baseline", action="store_true")
+    ap.add_argument("--atlas", action="store_true", help="only the six-bar atlas case")
     args = ap.parse_args()
     batch_ratio()
     if args.batch_only:
+        return
+    if args.atlas:
+        atlas_case()
         return
     import scipy.optimize  # noqa: F401
 

@@ -27,6 +27,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="CHART",
         help="also chart the objective against evaluations and time (.svg, .png, .pdf)",
     )
+    p.add_argument(
+        "--atlas",
+        type=int,
+        metavar="N",
+        help="try every one-DOF chain of N links (inversions, drivers, point links) and rank them",
+    )
+    p.add_argument(
+        "--mj", action="store_true", help="with --atlas: chains with multiple joints too"
+    )
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
 
@@ -42,6 +51,10 @@ def run(args: argparse.Namespace) -> int:
     check_output(args.output, OUTPUT_SUFFIXES, name="-o")
     if args.history is not None:
         check_output(args.history, FIGURE_SUFFIXES, name="--history")
+    if args.mj and args.atlas is None:
+        raise MechanismError("--mj: needs --atlas")
+    if args.atlas is not None:
+        return _run_atlas(args)
     task = load_task(args.task)
     bar = ProgressBar.for_cli(f"synthesize {task.kind}", args.json)
     with flag_names(workers="--workers", scheduler="--scheduler", seed="--seed"):
@@ -64,6 +77,59 @@ def run(args: argparse.Namespace) -> int:
         emit_json(out)
     else:
         emit_text(render(result.to_dict(), args.output, args.history))
+    return 0
+
+
+def _run_atlas(args: argparse.Namespace) -> int:
+    """``--atlas N``: every candidate topology on the task, ranked; the best written."""
+    from mjstruct.design.atlas import synthesize_atlas
+    from mjstruct.design.task import read_task_data
+    from mjstruct.synthesis.parallel import ProgressBar
+
+    data = read_task_data(args.task)
+    bar = ProgressBar.for_cli(f"synthesize --atlas {args.atlas}", args.json)
+    with flag_names(links="--atlas", workers="--workers", scheduler="--scheduler"):
+        r = synthesize_atlas(
+            data,
+            links=args.atlas,
+            mj=args.mj,
+            seed=args.seed,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=bar,
+        )
+    best = r.best
+    if best is None:
+        from mjstruct.errors import NumericalError
+
+        why = r.ranked[0].reason if r.ranked else "no candidate"
+        raise NumericalError(f"no feasible design: no candidate topology gave one ({why})")
+    _write(best.mechanism, args.output)
+    if args.history is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from mjstruct.plot.design_charts import write_history_chart
+
+        write_history_chart(best, args.history, name="--history")
+    ranking = [x.to_dict() for x in r.ranked]
+    if args.json:
+        out = best.to_dict()
+        out["output"] = args.output
+        out["atlas"] = ranking
+        out["atlas_seconds"] = r.seconds
+        emit_json(out)
+        return 0
+    lines = [f"atlas of one-DOF chains with {args.atlas} links: {len(ranking)} candidates "
+             f"in {r.seconds:.3g} s (seed {args.seed})",
+             "  rank  objective     topology (frame, driver, point's link)"]  # fmt: skip
+    for k, x in enumerate(ranking, 1):
+        obj = _num(x["objective"], ".4e") if x["feasible"] else "-"
+        where = f"frame {x['frame']}, driver {x['driver']}, point on {x['link']}"
+        note = "" if x["feasible"] else f"  ({x['reason'][:60]})"
+        lines.append(f"  {k:4d}  {obj:>12s}  {x['name']} ({where}){note}")
+    lines.append(render(best.to_dict(), args.output, args.history))
+    emit_text("\n".join(lines))
     return 0
 
 

@@ -159,6 +159,22 @@ def read_task(path: str | Path) -> Task:
         an unreadable file, or any field that is malformed or contradictory (one line
         naming the field).
     """
+    data, base, source = _read_data(path)
+    return task_from_dict(data, base=base, source=source)
+
+
+def read_task_data(path: str | Path) -> dict[str, Any]:
+    """The task file's object, read but not checked (an atlas run checks it per
+    candidate); a ``mechanism`` file name is resolved against the task file's folder."""
+    data, base, _ = _read_data(path)
+    if not isinstance(data, dict):
+        raise MechanismError("task: the top level must be an object")
+    if isinstance(data.get("mechanism"), str):
+        data["mechanism"] = str(Path(base) / data["mechanism"])
+    return data
+
+
+def _read_data(path: str | Path) -> tuple[Any, Path, str]:
     if str(path) == "-":
         raw = sys.stdin.buffer.read(MAX_FILE_BYTES + 1)
         base, source = Path.cwd(), "standard input"
@@ -195,7 +211,7 @@ def read_task(path: str | Path) -> Task:
         raise MechanismError(f"{source}: not valid TOML ({exc})") from None
     except (RecursionError, ValueError) as exc:
         raise MechanismError(f"{source}: unreadable ({exc.__class__.__name__})") from None
-    return task_from_dict(data, base=base, source=source)
+    return data, base, source
 
 
 def task_from_dict(data: Any, base: str | Path | None = None, source: str = "task") -> Task:
