@@ -28,6 +28,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="also chart the objective against evaluations and time (.svg, .png, .pdf)",
     )
     p.add_argument(
+        "--targets-chart",
+        metavar="CHART",
+        help="also draw the design with its traced path and the targets (.svg, .png, .pdf)",
+    )
+    p.add_argument(
         "--atlas",
         type=int,
         metavar="N",
@@ -51,6 +56,8 @@ def run(args: argparse.Namespace) -> int:
     check_output(args.output, OUTPUT_SUFFIXES, name="-o")
     if args.history is not None:
         check_output(args.history, FIGURE_SUFFIXES, name="--history")
+    if args.targets_chart is not None:
+        check_output(args.targets_chart, FIGURE_SUFFIXES, name="--targets-chart")
     if args.mj and args.atlas is None:
         raise MechanismError("--mj: needs --atlas")
     if args.atlas is not None:
@@ -62,21 +69,17 @@ def run(args: argparse.Namespace) -> int:
             task, seed=args.seed, workers=args.workers, scheduler=args.scheduler, progress=bar
         )
     _write(result.mechanism, args.output)
-    if args.history is not None:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        from mjstruct.plot.design_charts import write_history_chart
-
-        write_history_chart(result, args.history, name="--history")
+    _charts(args, result)
     if args.json:
         out = result.to_dict()
         out["output"] = args.output
         if args.history is not None:
             out["history_chart"] = args.history
+        if args.targets_chart is not None:
+            out["targets_chart"] = args.targets_chart
         emit_json(out)
     else:
-        emit_text(render(result.to_dict(), args.output, args.history))
+        emit_text(render(result.to_dict(), args.output, args.history, args.targets_chart))
     return 0
 
 
@@ -105,13 +108,7 @@ def _run_atlas(args: argparse.Namespace) -> int:
         why = r.ranked[0].reason if r.ranked else "no candidate"
         raise NumericalError(f"no feasible design: no candidate topology gave one ({why})")
     _write(best.mechanism, args.output)
-    if args.history is not None:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        from mjstruct.plot.design_charts import write_history_chart
-
-        write_history_chart(best, args.history, name="--history")
+    _charts(args, best)
     ranking = [x.to_dict() for x in r.ranked]
     if args.json:
         out = best.to_dict()
@@ -128,9 +125,24 @@ def _run_atlas(args: argparse.Namespace) -> int:
         where = f"frame {x['frame']}, driver {x['driver']}, point on {x['link']}"
         note = "" if x["feasible"] else f"  ({x['reason'][:60]})"
         lines.append(f"  {k:4d}  {obj:>12s}  {x['name']} ({where}){note}")
-    lines.append(render(best.to_dict(), args.output, args.history))
+    lines.append(render(best.to_dict(), args.output, args.history, args.targets_chart))
     emit_text("\n".join(lines))
     return 0
+
+
+def _charts(args: argparse.Namespace, result: Any) -> None:
+    """The charts asked for (after the design is written)."""
+    if args.history is None and args.targets_chart is None:
+        return
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mjstruct.plot.design_charts import write_history_chart, write_targets_chart
+
+    if args.history is not None:
+        write_history_chart(result, args.history, name="--history")
+    if args.targets_chart is not None:
+        write_targets_chart(result.mechanism, args.targets_chart, name="--targets-chart")
 
 
 def _write(m: Any, path: str) -> None:
@@ -152,7 +164,9 @@ def _num(x: Any, fmt: str = ".6g") -> str:
     return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
 
-def render(d: dict[str, Any], output: str, chart: str | None = None) -> str:
+def render(
+    d: dict[str, Any], output: str, chart: str | None = None, targets_chart: str | None = None
+) -> str:
     """The text report of a ``synthesize --json`` object."""
     lines = [
         f"{d['task']} synthesis: objective {_num(d['objective'])} "
@@ -183,4 +197,6 @@ def render(d: dict[str, Any], output: str, chart: str | None = None) -> str:
     lines.append(f"wrote {output} (the designed mechanism; its targets under 'synthesis')")
     if chart is not None:
         lines.append(f"wrote {chart} (objective against evaluations and time)")
+    if targets_chart is not None:
+        lines.append(f"wrote {targets_chart} (the design, its traced path and the targets)")
     return "\n".join(lines)

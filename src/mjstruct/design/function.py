@@ -14,8 +14,9 @@ equation
 coupler, output and frame lengths) is linear in K1, K2, K3: three precision points
 fix them exactly [Freudenstein 1955], more are fitted by linear least squares.  With
 the frame pivots of the starting mechanism kept, each gives a four-bar assembled at
-the first target; both join the global search's first population and its local
-starts, and the least squares over all points on the true angle errors follows.
+the first target (relative angles: for each offset of a grid); the best join the
+global search's first population and its local starts, and the least squares over all
+points on the true angle errors follows.
 
 References
 ----------
@@ -98,52 +99,75 @@ def _fourbar_joints(task: Task) -> tuple[str, str, str, str] | None:
     return driver.id, A.id, B.id, other.id
 
 
+#: offsets tried per relative column (input and output) when the angles are relative
+OFFSET_GRID = 24
+#: Freudenstein four-bars kept as starts
+FREUDENSTEIN_STARTS = 4
+
+
 def freudenstein_starts(problem: TrackProblem) -> list[FloatArray]:
-    """The global variables of the four-bars Freudenstein's equation gives: three
-    precision points (first, middle, last target) exactly, and all targets by linear
-    least squares; the frame pivots kept, assembled at the first target."""
+    """The global variables of four-bars from Freudenstein's equation: three precision
+    points (first, middle, last target) exactly and all targets by linear least
+    squares; the frame pivots kept, assembled at the first target.  Relative driver
+    values or angles (``timing_offset``, ``angle_offset``) have their offsets tried on
+    a grid of ``OFFSET_GRID`` values each; every four-bar is screened in one batched
+    call and the best ``FREUDENSTEIN_STARTS`` (feasible first) are kept."""
     task = problem.task
     joints = _fourbar_joints(task)
     if joints is None or problem.angles is None or problem.timing is None:
         return []
-    _O1n, An, Bn, _O2n = joints
+    _, An, Bn, _ = joints
     space, model = problem.space, problem.space.model
     g = model.geometry
     start = problem.start()
     k = space.size
-    qoff = start[k] if problem.offset else 0.0
-    aoff = start[k + int(problem.offset)] if problem.angle_offset else 0.0
-    q = problem.timing + qoff
-    out_angle = problem.angles + aoff
     O1, A0, B0, O2 = (g.centres[j] for j in joints)
     c1 = cmath.phase(A0 - O1) - float(model.q_ref[0])  # crank direction = q + c1
     c3 = g.char_angle[task.link or ""] - cmath.phase(B0 - O2)  # output angle = ψ + c3
     beta, d = cmath.phase(O2 - O1), abs(O2 - O1)
-    phi = q + c1 - beta
-    psi = out_angle - c3 - beta
-    T = len(q)
+    grid = np.linspace(-math.pi, math.pi, OFFSET_GRID, endpoint=False)
+    qoffs = grid if problem.offset else [0.0]
+    aoffs = grid if problem.angle_offset else [0.0]
+    T = len(problem.timing)
     picks = [[0, T // 2, T - 1]] if T >= 3 else []
     if T > 3:
         picks.append(list(range(T)))
-    starts = []
-    for idx in picks:
-        L = lengths_of(freudenstein(phi[idx], psi[idx]), d)
-        if L is None:
-            continue
-        a, _, c = L
-        pos = dict(space.start)
-        pos[An] = O1 + a * cmath.exp(1j * (beta + phi[0]))
-        pos[Bn] = O2 + c * cmath.exp(1j * (beta + psi[0]))
-        x = [v for n in space.names for v in (pos[n].real, pos[n].imag)]
-        starts.append(np.concatenate([x, start[k:]]))
-    return starts
+    rows = []
+    for qoff in qoffs:
+        for aoff in aoffs:
+            phi = problem.timing + qoff + c1 - beta
+            psi = problem.angles + aoff - c3 - beta
+            for idx in picks:
+                L = lengths_of(freudenstein(phi[idx], psi[idx]), d)
+                if L is None:
+                    continue
+                a, _, c = L
+                pos = dict(space.start)
+                pos[An] = O1 + a * cmath.exp(1j * (beta + phi[0]))
+                pos[Bn] = O2 + c * cmath.exp(1j * (beta + psi[0]))
+                x = [v for n in space.names for v in (pos[n].real, pos[n].imag)]
+                extra = ([qoff] if problem.offset else []) + (
+                    [aoff] if problem.angle_offset else []
+                )
+                rows.append(np.concatenate([x, extra if extra else start[k:]]))
+    if not rows:
+        return []
+    X = np.clip(np.array(rows), *problem.bounds())
+    if len(X) <= FREUDENSTEIN_STARTS:
+        return list(X)
+    a = problem.assess(X)
+    problem.evaluations += len(X)
+    worst = np.min(np.stack(list(a.margins.values())), axis=0)
+    key = np.where(worst >= 0, a.energy, np.inf)
+    order = np.lexsort((-worst, key))[:FREUDENSTEIN_STARTS]
+    return [X[i] for i in order]
 
 
 def function_problem(task: Task) -> TrackProblem:
     """The function task ``task`` ready for :func:`~mjstruct.design.search.solve`."""
     assert task.kind == "function" and task.mechanism is not None
     model = KinematicModel.build(task.mechanism)
-    space = DesignSpace.build(model, task.region, task.fixed, margin=1.0)
+    space = DesignSpace.build(model, task.region, task.fixed, margin=1.0, points=())
     problem = TrackProblem(
         task,
         None,

@@ -108,7 +108,9 @@ def motion_problem(task: Task) -> TrackProblem:
     assert task.kind == "motion" and task.mechanism is not None and task.point is not None
     model = KinematicModel.build(task.mechanism)
     positions = task.targets[:, 0] + 1j * task.targets[:, 1]
-    space = DesignSpace.build(model, task.region, task.fixed, margin=1.0, around=list(positions))
+    space = DesignSpace.build(
+        model, task.region, task.fixed, margin=1.0, around=list(positions), points=[task.point]
+    )
     problem = TrackProblem(
         task,
         task.point,

@@ -79,8 +79,11 @@ class DesignSpace:
         fixed: Sequence[str],
         margin: float = 1.0,
         around: Sequence[complex] = (),
+        points: Sequence[str] | None = None,
     ) -> DesignSpace:
-        """Variables for every joint and point not in ``fixed``.
+        """Variables for every joint not in ``fixed``, and every point in ``points``
+        (default: every point) not in ``fixed``; the other points keep their place on
+        their links (they do not change the motion).
 
         A position with a box in ``boxes`` stays in it; the others stay in the default
         box: the bounding box of the starting geometry and the points ``around`` (the
@@ -97,7 +100,10 @@ class DesignSpace:
             (min(xs) - margin * side, min(ys) - margin * side),
             (max(xs) + margin * side, max(ys) + margin * side),
         )
-        names = tuple(k for k in start if k not in set(fixed))
+        frozen = set(fixed)
+        if points is not None:
+            frozen |= set(g.points) - set(points)
+        names = tuple(k for k in start if k not in frozen)
         lo, hi = [], []
         for k in names:
             (x0, y0), (x1, y1) = boxes.get(k, default)

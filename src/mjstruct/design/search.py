@@ -51,6 +51,8 @@ PENALTY = 10.0
 MARGIN_SLACK = -1e-9
 #: local-stage evaluations at most (each: one residual vector, or one Jacobian)
 LOCAL_EVALUATIONS = 60
+#: the local stage's tolerances (scipy's ftol, xtol, gtol): it stops at rounding
+LOCAL_TOL = 1e-12
 #: local searches per restart: from the global best and the next best distinct members
 LOCAL_STARTS = 4
 
@@ -266,6 +268,9 @@ def run_once(
                     bounds=(zlo, zhi),
                     method="trf",
                     x_scale="jac",
+                    ftol=LOCAL_TOL,
+                    xtol=LOCAL_TOL,
+                    gtol=LOCAL_TOL,
                     max_nfev=LOCAL_EVALUATIONS,
                 )
         except (ValueError, np.linalg.LinAlgError):

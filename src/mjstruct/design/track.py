@@ -119,7 +119,9 @@ class TrackProblem(FitProblem):
         if space is None:
             model = KinematicModel.build(task.mechanism)
             around = list(positions) if positions is not None else []
-            space = DesignSpace.build(model, task.region, task.fixed, margin=1.0, around=around)
+            space = DesignSpace.build(
+                model, task.region, task.fixed, margin=1.0, around=around, points=[point or ""]
+            )
         self.space = space
         self.scale = space.model.scale
         # untimed: the cycle's samples the targets are matched to; timed: the range's

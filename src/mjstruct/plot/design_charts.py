@@ -1,11 +1,15 @@
-"""Charts of a synthesis run: the objective against evaluations and against time.
+"""Charts of a synthesis run: the objective's history, and the design against its targets.
 
 Owns :func:`draw_history` and :func:`write_history_chart`: the error-against-run-time
 report of a :class:`~mjstruct.design.result.DesignResult` (its ``history``: the best
 feasible objective after each generation of the global stage, then the verdict of the
 local stage), on two panels sharing a logarithmic objective axis: candidate
-evaluations, and wall time in seconds.  ``mjstruct synthesize --history CHART``
-writes it.
+evaluations, and wall time in seconds (``mjstruct synthesize --history CHART``); and
+:func:`draw_targets` and :func:`write_targets_chart`: a synthesised mechanism (read
+from its ``synthesis`` key) at its reference configuration, the path its point traces
+over one turn and the targets, numbered (path and motion; a motion target's angle as a
+short stroke), or its output angle against the driver with the targets (function)
+(``mjstruct synthesize --targets-chart CHART``).
 
 Examples
 --------
@@ -29,6 +33,7 @@ from typing import TYPE_CHECKING
 
 from mjstruct.design.result import DesignResult
 from mjstruct.errors import MechanismError
+from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -64,6 +69,86 @@ def draw_history(result: DesignResult, fig: Figure | None = None) -> Figure:
     )
     fig.tight_layout()
     return fig
+
+
+def draw_targets(m: Mechanism, fig: Figure | None = None, frames: int = 360) -> Figure:
+    """The design ``m`` (a file written by synthesis) against its targets."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from mjstruct.design.result import SYNTHESIS_KEY
+    from mjstruct.kinematics.model import KinematicModel
+
+    entry = m.extra.get(SYNTHESIS_KEY)
+    if not isinstance(entry, dict) or "targets" not in entry:
+        raise MechanismError(f"mechanism: no '{SYNTHESIS_KEY}' targets to draw")
+    model = KinematicModel.build(m)
+    motion = model.motion(model.sweep(frames), order=0)
+    targets = np.array(entry["targets"], float)
+    if fig is None:
+        fig = plt.figure(figsize=(6.4, 5.2))
+    ax = fig.add_subplot(1, 1, 1)
+    if entry.get("task") == "function":
+        link = entry["link"]
+        ax.plot(motion.q[:, 0], np.unwrap(motion.angle(link)[0]), color="tab:blue",
+                label=f"angle of link {link}")  # fmt: skip
+        timing = np.array(entry.get("timing", targets[:, 0]), float)
+        ax.plot(timing, targets[:, 1], "o", color="tab:red", label="targets")
+        ax.set_xlabel("q (rad)")
+        ax.set_ylabel("output angle (rad)")
+    else:
+        g = model.geometry
+        for link in m.links:
+            ids = [j for j in m.link_joints[link]]
+            pts = [g.centres[j] for j in ids]
+            if link == m.frame:
+                ax.plot([z.real for z in pts], [z.imag for z in pts], "k^", ms=8)
+                continue
+            loop = pts + pts[:1] if len(pts) > 2 else pts
+            ax.plot([z.real for z in loop], [z.imag for z in loop], "-", color="0.35", lw=2)
+        point = entry["point"]
+        if point in g.points:
+            link, z0 = g.points[point]
+            path = motion.point(link, z0)[0]
+            anchor = g.centres[next(iter(m.link_joints[link]))]
+            ax.plot([anchor.real, z0.real], [anchor.imag, z0.imag], ":", color="0.35")
+        else:
+            path = motion.centre(point)[0]
+            z0 = g.centres[point]
+        ok = np.isfinite(path)
+        ax.plot(path[ok].real, path[ok].imag, "-", color="tab:blue", lw=1.2,
+                label=f"path of {point}")  # fmt: skip
+        ax.plot([z0.real], [z0.imag], "o", color="tab:blue", ms=4)
+        ax.plot(targets[:, 0], targets[:, 1], "x", color="tab:red", ms=7, mew=1.6,
+                label="targets")  # fmt: skip
+        if targets.shape[1] == 3:
+            size = 0.12 * float(np.ptp(targets[:, :2], axis=0).max() or 1.0)
+            for x, y, a in targets:
+                ax.plot([x, x + size * np.cos(a)], [y, y + size * np.sin(a)], color="tab:red")
+        for k, (x, y) in enumerate(targets[:, :2], 1):
+            ax.annotate(str(k), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title(f"{m.name or 'design'}: {entry.get('task', '')} synthesis, targets and motion")
+    fig.tight_layout()
+    return fig
+
+
+def write_targets_chart(m: Mechanism, path: str, name: str = "path") -> None:
+    """Draw :func:`draw_targets` into ``path`` (``.svg``, ``.png``, ``.pdf``), atomically."""
+    import matplotlib.pyplot as plt
+
+    from mjstruct.plot.files import FIGURE_SUFFIXES, check_output, write_atomically
+
+    check_output(path, FIGURE_SUFFIXES, name=name)
+    fig = draw_targets(m)
+    try:
+        write_atomically(path, fig.savefig, name=name)
+    finally:
+        plt.close(fig)
 
 
 def write_history_chart(result: DesignResult, path: str, name: str = "path") -> None:
