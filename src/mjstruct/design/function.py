@@ -155,10 +155,10 @@ def freudenstein_starts(problem: TrackProblem) -> list[FloatArray]:
     X = np.clip(np.array(rows), *problem.bounds())
     if len(X) <= FREUDENSTEIN_STARTS:
         return list(X)
-    a = problem.assess(X)
+    judged = problem.assess(X)
     problem.evaluations += len(X)
-    worst = np.min(np.stack(list(a.margins.values())), axis=0)
-    key = np.where(worst >= 0, a.energy, np.inf)
+    worst = np.min(np.stack(list(judged.margins.values())), axis=0)
+    key = np.where(worst >= 0, judged.energy, np.inf)
     order = np.lexsort((-worst, key))[:FREUDENSTEIN_STARTS]
     return [X[i] for i in order]
 
