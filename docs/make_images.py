@@ -63,6 +63,19 @@ def singular() -> None:
         plt.close(fig)
 
 
+def explorer() -> None:
+    """The notebook explorer's picture after O2's sliders moved it to (3.0, 1.5): the
+    crank no longer turns fully (input limits on the strip)."""
+    from mjstruct.plot.explorer_view import ExplorerView
+
+    view = ExplorerView(read_mechanism(example_path("six-bar-mj-slider")), ["O2"], dpi=90)
+    view.move_joint("O2", 3.0, 1.5)
+    view.set_driver(100.0)
+    write_atomically(
+        str(IMG / "explorer-six-bar.png"), lambda tmp: Path(tmp).write_bytes(view.png())
+    )
+
+
 def main() -> int:
     start = time.perf_counter()
     # the README picture: radial engine, Assur groups and velocity vectors
@@ -88,6 +101,7 @@ def main() -> int:
     chains = atlas(1, 8, mj=True).chains
     write_atlas_sheet(chains[12:30], str(IMG / "atlas-sheet.png"), title="F = 1, n = 8 (part)")
     singular()
+    explorer()
     sys.stdout.write(f"images written to {IMG} in {time.perf_counter() - start:.1f} s\n")
     return 0
 

@@ -93,6 +93,7 @@ PUBLIC = [
     "mechanism_to_node_link",
     "DesignResult",
     "synthesize",
+    "explore",
 ]
 
 CLI = [

@@ -77,6 +77,7 @@ _EXPORTS: dict[str, str] = {
     "write_animation": "mjstruct.plot.animation",
     "draw_chart": "mjstruct.plot.charts",
     "write_atlas_sheet": "mjstruct.plot.atlas_sheet",
+    "explore": "mjstruct.plot.explorer",
     "dynamic_analysis": "mjstruct.dynamics.analysis",
     "DynamicsResult": "mjstruct.dynamics.analysis",
     "kinematic_analysis": "mjstruct.kinematics.solver",
@@ -145,6 +146,7 @@ __all__ = [
     "draw_scene",
     "driver_choices",
     "dynamic_analysis",
+    "explore",
     "familiar_name",
     "fourbar_theory",
     "from_link_graph",
@@ -280,6 +282,9 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         scene_at,
         scene_over_cycle,
         write_drawing,
+    )
+    from mjstruct.plot.explorer import (
+        explore,
     )
     from mjstruct.plot.ms_diagram import (
         plot_ms_diagram,

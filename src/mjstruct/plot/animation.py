@@ -37,7 +37,7 @@ from __future__ import annotations
 import base64
 import html
 import io
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
@@ -104,13 +104,35 @@ class FrameRenderer:
     scene : the scene whose shown frames are drawn.
     dpi : resolution of the images.
     width : figure width in inches.
+    radians : the title's driver angles in radians (default: degrees, 0 to 360).
+    ax : axes to draw on (default: a figure of its own shaped to the scene); the
+        explorer's figure has a second axes below the drawing.
+    moving : further artists of the figure drawn anew at every frame (the explorer's
+        marker of the driver's value), after the drawing's.
+    varying : further artists fixed over the frames but changed with the scene by
+        :meth:`rebind` (the explorer's assembly range and singular positions).
+    rebindable : whether :meth:`rebind` will be called (the background is then drawn
+        in two steps, so that a new scene redraws only what it changes).
     """
 
-    def __init__(self, scene: Scene, dpi: int, width: float = 6.0, radians: bool = False) -> None:
+    def __init__(
+        self,
+        scene: Scene,
+        dpi: int,
+        width: float = 6.0,
+        radians: bool = False,
+        ax: Any = None,
+        moving: Sequence[Any] = (),
+        varying: Sequence[Any] = (),
+        rebindable: bool = False,
+    ) -> None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         self.scene = scene
-        self.figure, ax = drawing_figure(scene, width=width, pyplot=False)
+        if ax is None:
+            self.figure, ax = drawing_figure(scene, width=width, pyplot=False)
+        else:
+            self.figure = ax.get_figure(root=True)
         self.figure.set_dpi(dpi)
         # matplotlib's canvas methods are untyped
         self.canvas = cast(Any, FigureCanvasAgg(self.figure))
@@ -118,19 +140,63 @@ class FrameRenderer:
         self.changing = self.drawing.changing
         self.labels = self.drawing.labels
         self.keys = self.drawing.keys
-        first = int(scene.shown[0])
-        self.drawing.show(first)
-        hidden = [*self.changing, *self.labels, *self.keys]
+        self.moving = list(moving)
+        self.varying = list(varying)
+        self.rebindable = rebindable
+        self.drawing.show(int(scene.shown[0]))
+        self.capture_background()
+        # sprites: (pixels, column and row of their top-left pixel from the anchor pixel)
+        self.label_sprites = [self._label_sprite(label) for label in self.labels]
+        self.key_sprites = [self._sprite(key, (0, 0)) for key in self.keys]
+
+    @property
+    def rebound(self) -> list[Any]:
+        """The background's artists that :meth:`rebind` changes (the frame's pivots,
+        the paths, :attr:`varying`), in z-order."""
+        scheme = self.drawing.scheme
+        found = [a for pair in scheme.grounds.values() for a in pair]
+        found += [*scheme.path_lines.values(), *self.varying]
+        return sorted(found, key=lambda a: a.get_zorder())
+
+    def capture_background(self) -> None:
+        """Draw what never changes and keep its pixels as the background of every frame.
+
+        Every artist but the moving ones, the labels and the keys; when
+        :attr:`rebindable`, in two steps: the static part (also without
+        :attr:`rebound`: the title, the scale bar, axes and their ticks) is drawn once by
+        matplotlib, and :attr:`rebound` over it, which :meth:`rebind` draws again."""
+        hidden = [*self.changing, *self.labels, *self.keys, *self.moving]
+        if self.rebindable:
+            hidden += self.rebound
         visible = [a.get_visible() for a in hidden]
         for a in hidden:
             a.set_visible(False)
         self.canvas.draw()
-        self.background = self.canvas.copy_from_bbox(self.figure.bbox)
+        self.static = self.canvas.copy_from_bbox(self.figure.bbox)
         for a, v in zip(hidden, visible, strict=True):
             a.set_visible(v)
-        # sprites: (pixels, column and row of their top-left pixel from the anchor pixel)
-        self.label_sprites = [self._label_sprite(label) for label in self.labels]
-        self.key_sprites = [self._sprite(key, (0, 0)) for key in self.keys]
+        if self.rebindable:
+            self._draw_rebound()
+        else:
+            self.background = self.static
+
+    def _draw_rebound(self) -> None:
+        self.canvas.restore_region(self.static)
+        renderer = self.canvas.get_renderer()
+        for a in self.rebound:
+            a.draw(renderer)
+        self.background = self.canvas.copy_from_bbox(self.figure.bbox)
+
+    def rebind(self, scene: Scene) -> None:
+        """Draw ``scene`` from now on (:meth:`SceneArtists.rebind
+        <mjstruct.plot.drawing.SceneArtists.rebind>`: the same mechanism with other joint
+        centres, within the axes' limits): the artists and the labels' sprites are kept;
+        only the background's :attr:`rebound` artists are drawn again."""
+        if not self.rebindable:
+            raise ValueError("rebind: the renderer was not made rebindable")
+        self.drawing.rebind(scene)
+        self.scene = scene
+        self._draw_rebound()
 
     def _pixel(self, label: Any) -> tuple[int, int]:
         """(column, row) of the pixel a label's text is centred on: its point plus its
@@ -172,6 +238,8 @@ class FrameRenderer:
         self.canvas.restore_region(self.background)
         renderer = self.canvas.get_renderer()
         for a in self.changing:
+            a.draw(renderer)
+        for a in self.moving:
             a.draw(renderer)
         image: Pixels = np.asarray(renderer.buffer_rgba())[..., :3].copy()
         for label, (sprite, dc, dr) in zip(self.labels, self.label_sprites, strict=True):

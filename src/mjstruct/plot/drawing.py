@@ -130,6 +130,28 @@ class SceneArtists:
         """The vector layers' keys: fixed in place, shown while their layer is."""
         return list(self.annotations.keys.values())
 
+    def fits(self, scene: Scene) -> bool:
+        """Whether ``scene``'s limits lie within the axes' (:meth:`rebind` keeps them)."""
+        x0, x1, y0, y1 = scene.limits
+        (a0, a1), (b0, b1) = self.ax.get_xlim(), self.ax.get_ylim()
+        return bool(a0 <= x0 and x1 <= a1 and b0 <= y0 and y1 <= b1)
+
+    def rebind(self, scene: Scene) -> None:
+        """Draw ``scene`` from now on, with the artists already built: the same
+        mechanism with other joint centres (same joints, links, drivers and paths;
+        layers without vectors, whose scales and keys would change), within the axes'
+        limits, which stay as they are (:meth:`fits`), as do the footer and the title's
+        name.  The explorer's joint sliders take this way."""
+        vectors = {"velocity", "acceleration", *FORCE_COLOURS}
+        if vectors & set(scene.layers) or vectors & set(self.scene.layers):
+            raise ValueError("rebind: a scene with vector layers is drawn anew")
+        if not self.fits(scene):
+            raise ValueError("rebind: the scene's limits leave the axes")
+        self.scene = scene
+        self.scheme.rebind(scene)
+        self.vectors.scene = scene
+        self.annotations.scene = scene
+
     def show(self, frame: int) -> None:
         """Set every artist to frame ``frame`` of the scene.
 

@@ -139,13 +139,21 @@ class SchemeArtists:
         self._turns: list[ComplexArray] = []
         #: label directions chosen at a point in the frame being shown (key -> directions)
         self._taken: dict[str, list[complex]] = {}
+        #: the symbols' sizes (pin radius): the first scene's, kept by :meth:`rebind`
+        self.pin = scene.pin
+        #: frame joint -> its pivot (triangle, hatching); path id -> its line
+        self.grounds: dict[str, tuple[Any, Any]] = {}
+        self.path_lines: dict[str, Any] = {}
         model = scene.model
         m = model.mechanism
         for j in m.joints:
             if j.kind == "R" and model.frame in j.links:
                 self._ground(j.id)
         for pid, z in scene.paths.items():
-            ax.plot(z.real, z.imag, ls="--", lw=1.0, color="0.45", zorder=1.2, gid=f"path:{pid}")
+            (line,) = ax.plot(
+                z.real, z.imag, ls="--", lw=1.0, color="0.45", zorder=1.2, gid=f"path:{pid}"
+            )
+            self.path_lines[pid] = line
         for jid in model.geometry.axes:
             self._guide(jid)
         for link in m.links:
@@ -172,6 +180,25 @@ class SchemeArtists:
         """Where every joint centre, point, block and guide end is drawn at frame ``k``."""
         return {key: complex(a[k]) for key, a in self.anchors.items()}
 
+    def rebind(self, scene: Scene) -> None:
+        """Draw ``scene`` from now on: the same mechanism with other joint centres (the
+        same joints, links, drivers, layers and paths), as the explorer moves a joint.
+
+        The frame's pivots and the paths move to the new scene; the moving artists
+        follow at the next :meth:`show`; symbol sizes stay those of the first scene.
+        """
+        self.scene = scene
+        self.anchors = anchor_arrays(scene)
+        self._arrows = _arrow_tails(scene)
+        self._turns = [at for fl in scene.forces.values() for _, at, _ in fl.couples]
+        for joint, (pivot, hatching) in self.grounds.items():
+            tri, segs = self._ground_shape(scene.model.geometry.centres[joint])
+            pivot.set_xy(tri)
+            hatching.set_segments(segs)
+        for pid, line in self.path_lines.items():
+            z = scene.paths[pid]
+            line.set_data(z.real, z.imag)
+
     def show(self, k: int, at: At | None) -> None:
         """Place the moving artists at frame ``k`` (``at``: its positions; None: hidden)."""
         self._taken.clear()
@@ -192,34 +219,39 @@ class SchemeArtists:
             model.geometry.axes[joint] * self.scene.motion.evaluation.poses[carrier].r[k]
         )
 
-    def _ground(self, joint: str) -> None:
-        from matplotlib.collections import LineCollection
-        from matplotlib.patches import Polygon
-
-        r = self.scene.pin
-        c = self.scene.model.geometry.centres[joint]
+    def _ground_shape(
+        self, c: complex
+    ) -> tuple[list[tuple[float, float]], list[list[tuple[float, float]]]]:
+        """(triangle, hatching segments) of a frame pivot at ``c``."""
+        r = self.pin
         base = c - 3.2j * r
-        tri = [c, base - 2.2 * r, base + 2.2 * r]
-        self.ax.add_artist(
-            Polygon(
-                _xy(tri),
-                closed=True,
-                facecolor="0.85",
-                edgecolor=FRAME_COLOUR,
-                lw=1.2,
-                zorder=1.5,
-                gid=f"ground:{joint}",
-            )
-        )
+        tri = _xy([c, base - 2.2 * r, base + 2.2 * r])
         segs = [[(base.real - 3.2 * r, base.imag), (base.real + 3.2 * r, base.imag)]]
         for t in np.linspace(-3.0, 2.2, 6):
             a = base + t * r
             segs.append([(a.real, a.imag), (a.real - r, a.imag - 1.2 * r)])
-        self.ax.add_artist(
-            LineCollection(
-                segs, colors=FRAME_COLOUR, lw=1.0, zorder=1.5, gid=f"ground:{joint}:hatching"
-            )
+        return tri, segs
+
+    def _ground(self, joint: str) -> None:
+        from matplotlib.collections import LineCollection
+        from matplotlib.patches import Polygon
+
+        tri, segs = self._ground_shape(self.scene.model.geometry.centres[joint])
+        pivot = Polygon(
+            tri,
+            closed=True,
+            facecolor="0.85",
+            edgecolor=FRAME_COLOUR,
+            lw=1.2,
+            zorder=1.5,
+            gid=f"ground:{joint}",
         )
+        self.ax.add_artist(pivot)
+        hatching = LineCollection(
+            segs, colors=FRAME_COLOUR, lw=1.0, zorder=1.5, gid=f"ground:{joint}:hatching"
+        )
+        self.ax.add_artist(hatching)
+        self.grounds[joint] = (pivot, hatching)
 
     def _guide(self, joint: str) -> None:
         from matplotlib.collections import LineCollection
