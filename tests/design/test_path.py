@@ -106,3 +106,42 @@ def test_a_requirement_no_candidate_meets_is_no_feasible_design():
             "solver": {"population": 5, "generations": 5, "restarts": 1}}  # fmt: skip
     with pytest.raises(NumericalError, match=r"^no feasible design: best constraint violation"):
         synthesize(task, seed=0)
+
+
+def _central(f, z, h):
+    """Central differences of ``f`` (an oracle independent of the problem's Jacobian)."""
+    cols = []
+    for i in range(len(z)):
+        up, dn = z.copy(), z.copy()
+        up[i] += h
+        dn[i] -= h
+        cols.append((f(up) - f(dn)) / (2 * h))
+    return np.array(cols).T
+
+
+@pytest.mark.parametrize(("timed", "lengths"), [(True, None), (False, None), (False, [0.3, 0.6])])
+def test_local_jacobian_is_the_derivative_of_the_residuals(timed, lengths):
+    # the Jacobian evaluates the targets' frames only when no penalty is active (and
+    # the whole range when one is, as with these lengths): both must be the residuals'
+    # derivative, whether or not the residuals were just asked at the same point
+    from mjstruct.design.path import path_problem
+    from mjstruct.design.task import task_from_dict
+
+    start, q, targets = _known(5, 3.0)
+    task = {"task": "path", "mechanism": start, "point": "M", "targets": targets}
+    if timed:
+        task["timing"] = list(q)
+    if lengths:
+        task["lengths"] = lengths
+    p = path_problem(task_from_dict(task))
+    z, _, _ = p.local_start(p.start())
+    r = p.residuals(z)
+    penalties = r[2 * len(targets) :]
+    assert (np.abs(penalties) > 0).any() == bool(lengths)
+    J = p.jacobian(z)
+    want = _central(p.residuals, z, 1e-7)
+    assert np.allclose(J, want, atol=1e-5 * np.abs(want).max())
+    z2 = z + 1e-3
+    assert np.allclose(
+        p.jacobian(z2), _central(p.residuals, z2, 1e-7), atol=1e-5 * np.abs(want).max()
+    )

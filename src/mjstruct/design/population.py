@@ -135,8 +135,9 @@ class DesignSpace:
     def population(self, X: FloatArray, samples: int) -> Population:
         """The candidates ``X`` (P × variables), each repeated over ``samples`` frames."""
         X = np.atleast_2d(np.asarray(X, float))
-        model = population_model(self.model, self.positions(X), samples)
-        return Population(self, X, samples, model)
+        positions = self.positions(X)
+        model = population_model(self.model, positions, samples)
+        return Population(self, X, samples, model, positions)
 
     def mechanism(self, x: FloatArray) -> Mechanism:
         """The starting mechanism with the geometry of the variables ``x``."""
@@ -200,12 +201,14 @@ class Population:
     X : the candidates' variables (P × variables).
     samples : frames per candidate.
     model : the per-frame model (P·samples frames).
+    positions : every joint centre and point per candidate (id -> (P,)).
     """
 
     space: DesignSpace
     X: FloatArray
     samples: int
     model: KinematicModel
+    positions: dict[str, ComplexArray]
 
     @property
     def size(self) -> int:

@@ -132,6 +132,8 @@ class TrackProblem(FitProblem):
         self.ng = space.size
         self.extra_starts = list(starts)
         self.evaluations = 0
+        #: the last residuals' point and margins (the Jacobian's next question)
+        self._last: tuple[bytes, dict[str, FloatArray]] | None = None
 
     # -- variables ------------------------------------------------------------------------
     @property
@@ -219,15 +221,14 @@ class TrackProblem(FitProblem):
         return out
 
     def _margins(
-        self, ev: Evaluation, shape: tuple[int, int], Xg: FloatArray
+        self, ev: Evaluation, shape: tuple[int, int], pop: Population
     ) -> dict[str, FloatArray]:
         t = self.task
         out = {"assembly": assembly_margin(ev, shape, t.transmission_deg, slice(None))}
         if t.lengths is not None:
-            positions = self.space.positions(Xg)
-            out["lengths"] = length_margin(positions, self.pairs, t.lengths, self.scale)
+            out["lengths"] = length_margin(pop.positions, self.pairs, t.lengths, self.scale)
         if t.motion is not None:
-            lengths = fourbar_lengths(self.space.model.mechanism, self.space.positions(Xg))
+            lengths = fourbar_lengths(self.space.model.mechanism, pop.positions)
             out["motion"] = fourbar_margin(lengths, t.motion)
         return out
 
@@ -252,7 +253,7 @@ class TrackProblem(FitProblem):
             D = self._costs(zt, at, aoff)  # P × T × T: the diagonal is target i at q_i
             energy = np.einsum("pii->p", D)
         energy = np.where(np.isfinite(energy), energy, np.inf)
-        return Assessment(energy, self._margins(ev, (len(X), S), Xg))
+        return Assessment(energy, self._margins(ev, (len(X), S), pop))
 
     # -- local stage ----------------------------------------------------------------------
     def local_start(self, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -287,14 +288,22 @@ class TrackProblem(FitProblem):
             qt = Z[:, self.ng + self.n_offsets :]
         return Xg, qoff, aoff, qt
 
-    def _local(self, Z: FloatArray, order: int) -> tuple[FloatArray, dict[str, FloatArray], Any]:
-        """Target residuals (P × rows) and margins of rows ``Z``; the jets at the targets."""
+    def _local(
+        self, Z: FloatArray, order: int, with_range: bool = True
+    ) -> tuple[FloatArray, dict[str, FloatArray], Any]:
+        """Target residuals (P × rows) and margins of rows ``Z``; the jets at the targets.
+
+        ``with_range=False``: the targets' frames only (no margins; for the columns of a
+        Jacobian whose penalties are all inactive).
+        """
         Xg, _qoff, aoff, qt = self._split(Z)
         T = self.targets
-        S = T + self.samples
+        S = T + self.samples if with_range else T
         pop = self.space.population(Xg, S)
         q_ref = pop.q_ref()
-        if self.timed:
+        if not with_range:
+            q = qt
+        elif self.timed:
             q, _ = self._driver_values(q_ref, qt)
         else:
             cycle = q_ref[:, None] + TWO_PI * np.arange(self.samples)[None, :] / self.samples
@@ -314,7 +323,8 @@ class TrackProblem(FitProblem):
             None if zj is None else [j[:, :T] for j in zj],
             None if aj is None else [j[:, :T] for j in aj],
         )
-        return np.hstack(parts), self._margins(ev, (len(Z), S), Xg), jets
+        margins = self._margins(ev, (len(Z), S), pop) if with_range else {}
+        return np.hstack(parts), margins, jets
 
     def _rows(self, Z: FloatArray, fit: FloatArray, margins: dict[str, FloatArray]) -> FloatArray:
         parts = [fit]
@@ -332,6 +342,7 @@ class TrackProblem(FitProblem):
     def residuals(self, z: FloatArray) -> FloatArray:
         Z = z[None, :]
         fit, margins, _ = self._local(Z, order=0)
+        self._last = (z.tobytes(), margins)
         out: FloatArray = self._rows(Z, fit, margins)[0]
         return out
 
@@ -344,7 +355,17 @@ class TrackProblem(FitProblem):
                 w[i] += sgn * h
                 rows.append(w)
         Z = np.array(rows)
-        fit, margins, (zj, aj) = self._local(Z, order=1)
+        # the penalties' columns only where one is active (least squares asks for the
+        # Jacobian where it has just asked for the residuals: their margins are known)
+        last = self._last
+        if last is not None and last[0] == z.tobytes():
+            known = last[1]
+        else:
+            known = self._local(z[None, :], order=0)[1]
+        active = any(float(v[0]) < 0 for v in known.values())
+        fit, margins, (zj, aj) = self._local(Z, order=1, with_range=active)
+        if not active:
+            margins = {k: np.zeros(len(Z)) + v[0] for k, v in known.items()}
         R = self._rows(Z, fit, margins)
         J = np.zeros((R.shape[1], len(z)))
         J[:, : self.ng] = ((R[1::2] - R[2::2]) / (2 * h)).T  # rows: base, +h, -h, ...
