@@ -111,3 +111,29 @@ def test_agreement_flags_a_hop_and_a_tangent_that_is_not_finite():
     t1 = np.array([[0.1], [0.5], [0.1]])
     d1 = np.array([[1.0], [1.0], [np.nan]])
     assert list(closure_path.agreement(t0, d, t1, d1, np.full(3, 0.1))) == [True, False, False]
+
+
+@pytest.mark.parametrize("name", ["class-iv-seed003", "triad-class-iii"])
+def test_checks_reuse_the_closure_jacobian_bit_for_bit(
+    name: str, closure_evaluations: list[int]
+) -> None:
+    # the plan determinant takes dR/dt from Newton's last round where the closure has
+    # it (the triad: frames closed by reseeding or not at all have none) and is the
+    # same, bit for bit, as the closure Jacobian evaluated afresh on every frame
+    import dataclasses
+
+    from mjstruct.kinematics import checks
+
+    model = _model(name)
+    motion = model.motion(model.sweep(360))
+    sol = motion.closure
+    assert sol is not None and sol.jacobian is not None
+    have = np.isfinite(sol.jacobian).all(axis=(1, 2))
+    assert have.any() and not (have & ~sol.converged).any()
+    closure_evaluations[0] = 0
+    sign, logf = checks.plan_determinant(motion)
+    assert closure_evaluations[0] == (0 if have.all() else 1)
+    fresh = dataclasses.replace(motion, closure=dataclasses.replace(sol, jacobian=None))
+    sign0, log0 = checks.plan_determinant(fresh)
+    assert np.array_equal(sign, sign0, equal_nan=True)
+    assert np.array_equal(logf, log0, equal_nan=True)

@@ -52,6 +52,10 @@ def batched_det(A: FloatArray) -> tuple[FloatArray, FloatArray]:
     >>> (s * np.exp(l)).round(12).tolist()
     [5.0, -1.0]
     """
+    if A.shape[1] == 1 and A.shape[2] == 1:
+        # one unknown: the entry itself (what the elimination below gives, bit for bit)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.sign(A[:, 0, 0]), np.log(np.abs(A[:, 0, 0]))
     M = np.array(A, dtype=float)
     F, k, _ = M.shape
     sign = np.ones(F)
@@ -96,15 +100,39 @@ def plan_determinant(motion: Motion) -> tuple[FloatArray, FloatArray]:
             sign *= np.sign(det)
             logabs += np.log(np.abs(det))
         if motion.closure is not None:
-            t = np.where(np.isfinite(motion.closure.t), motion.closure.t, 0.0)
-            # the closure's inner dyads in their modes of each frame
-            _, Rt = closure_jacobian(motion.model, q, t, motion.closure.modes or None)
+            Rt = _closure_jacobian(motion)
             if Rt.shape[1] != Rt.shape[2]:
                 return np.full(F, np.nan), np.full(F, np.nan)
             s, lg = batched_det(Rt)
             sign *= s
             logabs += lg
     return sign, logabs
+
+
+def _closure_jacobian(motion: Motion) -> FloatArray:
+    """dR/dt of the closure equations on every frame, in the closure's modes.
+
+    The closure's own (from Newton's last round, at the final unknowns) where it has
+    it; evaluated afresh only on the other frames (closed at the reference or by
+    reseeding, or not closed: there at the unknowns it ended with, else 0).
+    """
+    sol, q = motion.closure, motion.q
+    assert sol is not None
+    have = sol.jacobian
+    if have is not None and have.shape[0] == q.shape[0]:
+        miss = np.flatnonzero(~np.isfinite(have).all(axis=(1, 2)))
+        if miss.size == 0:
+            return have
+        Rt = have.copy()
+    else:
+        miss = np.arange(q.shape[0])
+        Rt = np.empty((q.shape[0], motion.model.plan.equations, motion.model.plan.unknowns))
+    t = sol.t[miss]
+    t = np.where(np.isfinite(t), t, 0.0)
+    # the closure's inner dyads in their modes of each frame
+    modes = {k: v[miss] for k, v in sol.modes.items()} or None
+    _, Rt[miss] = closure_jacobian(motion.model, q[miss], t, modes)
+    return Rt
 
 
 #: what ``checks`` may ask for: True (the default: O(frames) checks), "full" (the

@@ -122,6 +122,11 @@ class Closure:
     #: edge (driver values, unknowns, modes there); the closure group's limit lies
     #: within 1e-4 beyond it
     stops: tuple[tuple[FloatArray, FloatArray, Modes | None], ...] = ()
+    #: dR/dt (frames × equations × unknowns) at ``t`` in the frames' ``modes``, from
+    #: Newton's last round; NaN on the frames where it is not known there (not
+    #: converged, closed at the reference or by reseeding): the checks' plan
+    #: determinant reads it instead of evaluating the closure again
+    jacobian: FloatArray | None = None
 
 
 def close(
@@ -244,6 +249,7 @@ def close(
         )
         e0 = np.abs(R0).max(axis=1) / model.geometry.scale
         t[at_ref], err[at_ref], t1[at_ref], t2[at_ref] = 0.0, e0, np.nan, np.nan
+        J[at_ref] = np.nan
         ok[at_ref] = e0 <= STALL_ERROR * tol
         if ok[at_ref].any():
             r = at_ref[ok[at_ref]]
@@ -267,7 +273,13 @@ def close(
     jumps = branch_jumps(q, q_ref, t, t1, d0, ok, rate)
     modes = _frame_modes(model, K, inner, F)
     stops = [] if flips is None or flips.stop is None else [flips.stop]
-    return Closure(t, t1, t2, err, iters, ok, tol, jumps, reseeded, modes, tuple(stops + more))
+    # the Jacobian at the final t only where Newton's last round (or the repair) left it
+    J[~ok] = np.nan
+    if reseeded:
+        J[list(reseeded)] = np.nan
+    return Closure(
+        t, t1, t2, err, iters, ok, tol, jumps, reseeded, modes, tuple(stops + more), J
+    )
 
 
 def _frame_modes(

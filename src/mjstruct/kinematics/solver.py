@@ -274,6 +274,7 @@ def _tail_closure(c: Closure, n: int) -> Closure:
         converged=c.converged[n:],
         jumps=tuple(i - n for i in c.jumps if i >= n),
         modes={k: v[n:] for k, v in c.modes.items()},
+        jacobian=None if c.jacobian is None else c.jacobian[n:],
     )
 
 
