@@ -7,11 +7,13 @@ default ``kinematic_analysis`` (checks on) and the one with ``checks=False`` at 
 frames.  Prints medians, time per link, the log-log slope between consecutive sizes
 (of the checked analysis, and of planning: near 1 when it stays linear) and the peak
 RSS, and the goals: t(4000)/t(1000) <= 4.8 with the default checks, 4000 links run by
-default (not refused by the memory guard) within 4 GiB of peak memory.
+default (not refused by the memory guard) within 4 GiB of peak memory.  With
+``--full-checks`` the checked column runs the full Jacobian check (``checks="full"``:
+rank and determinant from sparse entries), against the same goals.
 
 Run: ``python benchmarks/bench_kinematics_scale.py [--frames N] [--sizes 4,18,...]
-[--plot docs/img/kin-scaling.png]``; ``--plot`` draws time and peak memory against
-the number of links on log-log axes.
+[--rounds N] [--full-checks] [--plot docs/img/kin-scaling.png]``; ``--plot`` draws time
+and peak memory against the number of links on log-log axes.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import time
 SIZES = (4, 10, 18, 34, 66, 130, 258, 514, 1000, 2000, 4000)
 
 
-def _one(n: int, frames: int, repeat: int) -> dict[str, float]:
+def _one(n: int, frames: int, repeat: int, level: bool | str = True) -> dict[str, float]:
     """Measure one size (run in a child process)."""
     from mjstruct.kinematics.memory import sweep_bytes
     from mjstruct.kinematics.model import KinematicModel
@@ -48,13 +50,13 @@ def _one(n: int, frames: int, repeat: int) -> dict[str, float]:
     out["plan"] = timed(lambda: KinematicModel.build(m))
     model = KinematicModel.build(m)
     out["no_checks"] = timed(lambda: kinematic_analysis(model, frames=frames, checks=False))
-    out["checks"] = timed(lambda: kinematic_analysis(model, frames=frames))
-    r = kinematic_analysis(model, frames=frames)
+    out["checks"] = timed(lambda: kinematic_analysis(model, frames=frames, checks=level))
+    r = kinematic_analysis(model, frames=frames, checks=level)
     out["valid"] = float(r.valid.mean())
     out["factor_error"] = float(r.checks["jacobian"]["det_from_plan_error"] or -1)
     out["rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     # the guard's estimate of the default call, against the measured peak
-    out["estimate_mb"] = sweep_bytes(model, frames) / 2**20
+    out["estimate_mb"] = sweep_bytes(model, frames, checks=level) / 2**20
     return out
 
 
@@ -65,14 +67,22 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=1, help="run all sizes this many times, in turn")
     ap.add_argument("--sizes", default=",".join(str(s) for s in SIZES))
     ap.add_argument("--plot", help="write a log-log plot of time and peak memory (PNG)")
+    ap.add_argument(
+        "--full-checks",
+        action="store_true",
+        help="the checks column with the full Jacobian check (checks='full')",
+    )
     ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args()
+    level: bool | str = "full" if args.full_checks else True
+    label = "full checks" if args.full_checks else "default checks"
     if args.child:
-        print(json.dumps(_one(args.child, args.frames, args.repeat)))
+        print(json.dumps(_one(args.child, args.frames, args.repeat, level)))
         return
     print(
         f"k four-bars sharing one crank, {args.frames} frames, median of {args.repeat} "
-        f"in each of {args.rounds} round(s) (each size in its own process, sizes in turn)"
+        f"in each of {args.rounds} round(s) (each size in its own process, sizes in turn); "
+        f"'checks' = {label}"
     )
     print(
         f"{'links':>6} {'plan ms':>9} {'no checks ms':>13} {'checks ms':>10} "
@@ -88,7 +98,7 @@ def main() -> None:
     for _ in range(args.rounds):
         for n in sizes:
             cmd = [sys.executable, __file__, "--child", str(n), "--frames", str(args.frames)]
-            cmd += ["--repeat", str(args.repeat)]
+            cmd += ["--repeat", str(args.repeat)] + (["--full-checks"] if args.full_checks else [])
             done = subprocess.run(cmd, capture_output=True, text=True)
             if done.returncode:
                 sys.exit(f"size {n} failed:\n{done.stderr}")
@@ -114,9 +124,9 @@ def main() -> None:
         rows.append(got)
     by = {int(r["links"]): r for r in rows}
     if 1000 in by and 4000 in by:
-        for key, label in (("checks", "default checks"), ("no_checks", "checks off")):
+        for key, name in (("checks", label), ("no_checks", "checks off")):
             ratio = by[4000][key] / by[1000][key]
-            print(f"t(4000)/t(1000), {label}: {ratio:.2f} (goal <= 4.8; linear 4.0)")
+            print(f"t(4000)/t(1000), {name}: {ratio:.2f} (goal <= 4.8; linear 4.0)")
         print(f"peak RSS at 4000 links: {by[4000]['rss_mb']:.0f} MB (goal <= 4096)")
     if args.plot:
         plot(rows, args.frames, args.plot)

@@ -277,9 +277,7 @@ def close(
     J[~ok] = np.nan
     if reseeded:
         J[list(reseeded)] = np.nan
-    return Closure(
-        t, t1, t2, err, iters, ok, tol, jumps, reseeded, modes, tuple(stops + more), J
-    )
+    return Closure(t, t1, t2, err, iters, ok, tol, jumps, reseeded, modes, tuple(stops + more), J)
 
 
 def _frame_modes(

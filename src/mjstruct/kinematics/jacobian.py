@@ -28,7 +28,7 @@ Examples
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
@@ -123,70 +123,166 @@ def reference_poses(m: Mechanism) -> dict[str, Pose]:
     return {x: Pose(0j, [z], np.ones(1, complex), []) for x in m.links}
 
 
-def constraint_jacobian(
+@dataclass(frozen=True)
+class SparseJacobian:
+    """J and the driver rows as sparse entries over frames: ``[J; D]`` without a dense matrix.
+
+    Entry ``e`` sits at row ``rows[e]`` (the constraint rows first, then one row per
+    driver), column ``cols[e]`` and has value ``values[:, e]`` on each frame; entries
+    at one place add up (a prismatic joint's angle column).  Their number is linear
+    in the joints, whatever the size of the dense matrix (Nu + drivers) × 3Ns.
+    """
+
+    rows: IntArray
+    cols: IntArray
+    values: FloatArray
+    equations: int
+    coordinates: int
+    drivers: int
+
+    @property
+    def frames(self) -> int:
+        """Frames the entries are given on."""
+        return int(self.values.shape[0])
+
+    def dense(self) -> tuple[FloatArray, FloatArray]:
+        """J (frames × Nu × 3Ns) and the driver rows (frames × N × 3Ns), dense."""
+        n, nc = self.equations + self.drivers, self.coordinates
+        At = np.zeros((n * nc, self.frames))
+        # in entry order, each place from zero: the sums of a dense fill, bit for bit
+        np.add.at(At, self.rows * nc + self.cols, self.values.T)
+        A = np.ascontiguousarray(At.T).reshape(self.frames, n, nc)
+        return A[:, : self.equations], A[:, self.equations :]
+
+    def matrix(self, frame: int, with_drivers: bool = True) -> Any:
+        """``[J; D]`` (or J alone) on one frame as a scipy CSC matrix, zeros dropped.
+
+        The same matrix, indices sorted, as ``csc_matrix`` of the dense one.
+        """
+        from scipy.sparse import csc_matrix
+
+        n = self.equations + (self.drivers if with_drivers else 0)
+        keep = self.rows < n
+        A = csc_matrix(
+            (self.values[frame, keep], (self.rows[keep], self.cols[keep])),
+            shape=(n, self.coordinates),
+        )
+        A.sum_duplicates()
+        A.eliminate_zeros()
+        return A
+
+
+def constraint_entries(
     m: Mechanism, geom: Geometry, poses: dict[str, Pose], drivers: tuple[str, ...] = ()
-) -> tuple[FloatArray, FloatArray]:
-    """J (frames × Nu × 3Ns) of the joint constraints, and the driver rows (frames × N × 3Ns).
+) -> SparseJacobian:
+    """The joint constraints' Jacobian and the driver rows as sparse entries.
 
     Columns are (x, y, φ) of each moving link in ``m.links`` order; ``poses`` give the
-    configuration (frame link at rest).
+    configuration (frame link at rest).  A revolute joint of links L0 … Ln gives two
+    rows per pair (L0, Li): the difference of the joint's centre carried by each;
+    a prismatic joint two rows (equal angles, the second link's point on the first
+    link's guide); a driver one row (the relative angle or slide).
     """
     moving = [x for x in m.links if x != m.frame]
     col = {link: 3 * i for i, link in enumerate(moving)}
     F = next(iter(poses.values())).r.shape[0]
     nu = sum(2 * (len(j.links) - 1) if j.kind == "R" else 2 for j in m.joints)
-    # filled in place, row by row (one allocation, no stack of row arrays)
-    J = np.zeros((F, nu, 3 * len(moving)))
-    D = np.zeros((F, len(drivers), 3 * len(moving)))
+    # revolute pairs, vectorised: one term per (row pair, moving link) with its sign
+    t_row: list[int] = []
+    t_link: list[str] = []
+    t_z: list[complex] = []
+    t_sign: list[float] = []
+    # prismatic joints and drivers: entries one by one
+    e_row: list[int] = []
+    e_col: list[int] = []
+    e_val: list[FloatArray] = []
 
-    def add_point(i: int, link: str, z: complex, sign: float) -> None:
-        if link not in col:
-            return
-        c = col[link]
-        J[:, i, c] += sign
-        J[:, i + 1, c + 1] += sign
-        d = 1j * poses[link].r * (z - 0j)
-        J[:, i, c + 2] += sign * d.real
-        J[:, i + 1, c + 2] += sign * d.imag
+    def term(i: int, link: str, z: complex, sign: float) -> None:
+        if link in col:
+            t_row.append(i)
+            t_link.append(link)
+            t_z.append(z)
+            t_sign.append(sign)
+
+    def entry(i: int, c: int, v: FloatArray | float) -> None:
+        e_row.append(i)
+        e_col.append(c)
+        e_val.append(np.broadcast_to(np.asarray(v, float), (F,)))
 
     i = 0
     for j in m.joints:
         z = geom.centres[j.id]
         if j.kind == "R":
             for other in j.links[1:]:
-                add_point(i, j.links[0], z, 1.0)
-                add_point(i, other, z, -1.0)
+                term(i, j.links[0], z, 1.0)
+                term(i, other, z, -1.0)
                 i += 2
         else:
             a, b = j.links
             if a in col:
-                J[:, i, col[a] + 2] += 1.0
+                entry(i, col[a] + 2, 1.0)
             if b in col:
-                J[:, i, col[b] + 2] -= 1.0
-            _slide_row(poses, col, a, b, z, 1j * geom.axes[j.id], J[:, i + 1])
+                entry(i, col[b] + 2, -1.0)
+            _slide_entries(poses, col, a, b, z, 1j * geom.axes[j.id], i + 1, entry)
             i += 2
     for k, d in enumerate(drivers):
         j = m.joint(d)
         a, b = j.links[0], j.links[1]
         if j.kind == "R":
             if b in col:
-                D[:, k, col[b] + 2] += 1.0
+                entry(nu + k, col[b] + 2, 1.0)
             if a in col:
-                D[:, k, col[a] + 2] -= 1.0
+                entry(nu + k, col[a] + 2, -1.0)
         else:
-            _slide_row(poses, col, a, b, geom.centres[d], geom.axes[d], D[:, k])
-    return J, D
+            _slide_entries(poses, col, a, b, geom.centres[d], geom.axes[d], nu + k, entry)
+    T = len(t_row)
+    rows = np.asarray(t_row, dtype=np.int_)
+    cols = np.asarray([col[x] for x in t_link], dtype=np.int_)
+    sign = np.asarray(t_sign)
+    values = np.empty((F, 4 * T))
+    if T:
+        # each link's rotation once, gathered per term
+        order = {x: k for k, x in enumerate(dict.fromkeys(t_link))}
+        r = np.stack([poses[x].r for x in order], axis=1)
+        arm = 1j * r[:, [order[x] for x in t_link]] * (np.asarray(t_z) - 0j)
+        values[:, 0::4] = sign
+        values[:, 1::4] = sign
+        values[:, 2::4] = sign * arm.real
+        values[:, 3::4] = sign * arm.imag
+    all_rows = np.empty(4 * T, dtype=np.int_)
+    all_rows[0::4], all_rows[1::4], all_rows[2::4], all_rows[3::4] = rows, rows + 1, rows, rows + 1
+    all_cols = np.empty(4 * T, dtype=np.int_)
+    all_cols[0::4], all_cols[1::4] = cols, cols + 1
+    all_cols[2::4] = all_cols[3::4] = cols + 2
+    if e_row:
+        all_rows = np.concatenate([all_rows, e_row])
+        all_cols = np.concatenate([all_cols, e_col])
+        values = np.concatenate([values, np.stack(e_val, axis=1)], axis=1)
+    return SparseJacobian(all_rows, all_cols, values, nu, 3 * len(moving), len(drivers))
 
 
-def _slide_row(
+def constraint_jacobian(
+    m: Mechanism, geom: Geometry, poses: dict[str, Pose], drivers: tuple[str, ...] = ()
+) -> tuple[FloatArray, FloatArray]:
+    """J (frames × Nu × 3Ns) of the joint constraints, and the driver rows (frames × N × 3Ns).
+
+    Dense (:func:`constraint_entries` filled in): for small mechanisms or few frames.
+    Columns are (x, y, φ) of each moving link in ``m.links`` order; ``poses`` give the
+    configuration (frame link at rest).
+    """
+    return constraint_entries(m, geom, poses, drivers).dense()
+
+
+def _slide_entries(
     poses: dict[str, Pose],
     col: dict[str, int],
     a: str,
     b: str,
     z: complex,
     v: complex,
-    row: FloatArray,
-) -> FloatArray:
+    row: int,
+    entry: Any,
+) -> None:
     """Gradient of Re(conj(v_a)(X_b - X_a)): v_a the direction v carried by link a."""
     va = poses[a].r * v
     xb = poses[b].point(z)[0]
@@ -195,13 +291,12 @@ def _slide_row(
         if link not in col:
             continue
         c = col[link]
-        row[:, c] += sign * va.real
-        row[:, c + 1] += sign * va.imag
+        entry(row, c, sign * va.real)
+        entry(row, c + 1, sign * va.imag)
         d = 1j * poses[link].r * z
-        row[:, c + 2] += sign * (va.conjugate() * d).real
+        entry(row, c + 2, sign * (va.conjugate() * d).real)
     if a in col:
-        row[:, col[a] + 2] += ((1j * va).conjugate() * (xb - xa)).real
-    return row
+        entry(row, col[a] + 2, ((1j * va).conjugate() * (xb - xa)).real)
 
 
 def check_jacobian(
@@ -238,19 +333,26 @@ def check_jacobian(
     # have entries of one order whatever the unit and the origin (in the file's units
     # the φ columns are lengths and the rank test's relative tolerance failed beyond
     # sizes of about 1e8, or 1e9 sizes from the origin); log |det| is converted back
-    geom, poses, shift = _in_size_units(m, geom, poses, drivers)
+    # (the poses are moved on the frames where J is built only: moving all of them
+    # copied every link's jets over every frame, 0.7 GB at 4000 links x 3600 frames)
+    geom, move, shift = _in_size_units(m, geom, drivers)
+
+    def at(idx: npt.NDArray[np.intp]) -> dict[str, Pose]:
+        return move(poses_at(poses, idx))
+
     if factor is not None and finite.any():
-        got = _factored(m, geom, poses, drivers, sample, factor, finite, shift)
+        got = _factored(m, geom, at, drivers, sample, factor, finite, shift)
         if got is not None:
             return got
-    return _direct(m, geom, poses, drivers, sample, finite, shift)
+    return _direct(m, geom, at, drivers, sample, finite, shift)
 
 
 def _in_size_units(
-    m: Mechanism, geom: Geometry, poses: dict[str, Pose], drivers: tuple[str, ...]
-) -> tuple[Geometry, dict[str, Pose], float]:
-    """The geometry and poses moved to the first joint and divided by the size, and
-    log s^k, k = (moving links) - (angle rows: prismatic joints and revolute drivers).
+    m: Mechanism, geom: Geometry, drivers: tuple[str, ...]
+) -> tuple[Geometry, Callable[[dict[str, Pose]], dict[str, Pose]], float]:
+    """The geometry moved to the first joint and divided by the size, the same move
+    for poses, and log s^k, k = (moving links) - (angle rows: prismatic joints and
+    revolute drivers).
 
     Moving the origin adds multiples of the x, y columns to the φ columns (rank and
     determinant unchanged); dividing lengths by s divides the φ columns by s, and the
@@ -268,13 +370,16 @@ def _in_size_units(
         points={p: (link, (z - o) / s) for p, (link, z) in geom.points.items()},
         scale=1.0,
     )
-    moved = {
-        x: Pose((p.zA - o) / s, [(p.A[0] - o) / s, *(a / s for a in p.A[1:])], p.r, p.w)
-        for x, p in poses.items()
-    }
+
+    def move(poses: dict[str, Pose]) -> dict[str, Pose]:
+        return {
+            x: Pose((p.zA - o) / s, [(p.A[0] - o) / s, *(a / s for a in p.A[1:])], p.r, p.w)
+            for x, p in poses.items()
+        }
+
     angle_rows = sum(j.kind == "P" for j in m.joints)
     angle_rows += sum(m.joint(d).kind == "R" for d in drivers)
-    return unit, moved, (len(m.links) - 1 - angle_rows) * float(np.log(s))
+    return unit, move, (len(m.links) - 1 - angle_rows) * float(np.log(s))
 
 
 #: bytes of Jacobian matrices held at once (frames are taken in chunks within it)
@@ -318,16 +423,12 @@ SPARSE_ROWS = 200
 SVD_ENTRIES = 4_000_000
 
 
-def _slogdet(A: FloatArray) -> tuple[float, float]:
-    """Sign and log |det| of one square matrix (sparse LU when it is large)."""
-    if A.shape[0] <= SPARSE_ROWS:
-        s, lg = np.linalg.slogdet(A)
-        return float(s), float(lg)
-    from scipy.sparse import csc_matrix
+def _slogdet(A: Any) -> tuple[float, float]:
+    """Sign and log |det| of one large square sparse matrix (CSC; sparse LU)."""
     from scipy.sparse.linalg import splu
 
     try:
-        lu = splu(csc_matrix(A))
+        lu = splu(A)
     except RuntimeError:  # exactly singular
         return 0.0, float("-inf")
     d = lu.U.diagonal()
@@ -336,18 +437,40 @@ def _slogdet(A: FloatArray) -> tuple[float, float]:
         return sign, float(np.log(np.abs(d)).sum())
 
 
+def _slogdets(sj: SparseJacobian) -> tuple[FloatArray, FloatArray]:
+    """Sign and log |det| of ``[J; D]`` on every frame of the entries.
+
+    Small systems (at most :data:`SPARSE_ROWS` rows): one stacked LAPACK call on the
+    dense matrices; larger ones: a sparse LU per frame, built from the entries (no
+    dense matrix).
+    """
+    if sj.equations + sj.drivers <= SPARSE_ROWS:
+        J, D = sj.dense()
+        sign, logdet = np.linalg.slogdet(np.concatenate([J, D], axis=1))
+        return np.asarray(sign, dtype=np.float64), np.asarray(logdet, dtype=np.float64)
+    got = [_slogdet(sj.matrix(i)) for i in range(sj.frames)]
+    return np.array([g[0] for g in got]), np.array([g[1] for g in got])
+
+
 def _parity(perm: npt.NDArray[np.int32]) -> float:
-    """+1 for an even permutation, -1 for an odd one."""
-    seen = np.zeros(perm.size, bool)
-    swaps = 0
-    for i in range(perm.size):
-        length = 0
-        while not seen[i]:
-            seen[i] = True
-            i = int(perm[i])
-            length += 1
-        swaps += max(0, length - 1)
-    return -1.0 if swaps % 2 else 1.0
+    """+1 for an even permutation, -1 for an odd one.
+
+    n minus the number of cycles is the number of swaps; each element's cycle is
+    labelled by its smallest member through pointer doubling (log2 n array steps).
+
+    >>> _parity(np.array([1, 0, 2])), _parity(np.array([1, 2, 0]))
+    (-1.0, 1.0)
+    """
+    n = perm.size
+    label = np.arange(n)
+    step = np.asarray(perm, dtype=np.intp)
+    reach = 1
+    while reach < n:
+        label = np.minimum(label, label[step])
+        step = step[step]
+        reach *= 2
+    cycles = int(np.count_nonzero(label == np.arange(n)))
+    return -1.0 if (n - cycles) % 2 else 1.0
 
 
 def _ranks(J: FloatArray, nu: int, nc: int) -> IntArray:
@@ -361,7 +484,7 @@ def _ranks(J: FloatArray, nu: int, nc: int) -> IntArray:
 def _direct(
     m: Mechanism,
     geom: Geometry,
-    poses: dict[str, Pose],
+    at: Callable[[npt.NDArray[np.intp]], dict[str, Pose]],
     drivers: tuple[str, ...],
     sample: int,
     finite: npt.NDArray[np.bool_],
@@ -369,8 +492,11 @@ def _direct(
 ) -> JacobianCheck:
     """Determinant on every frame, rank on a sample and where the determinant is small.
 
-    ``geom`` and ``poses`` in units of the size; ``shift`` converts log |det| back to
-    the file's units (:func:`_in_size_units`).
+    ``geom`` in units of the size, ``at(frames)`` the poses on those frames in the
+    same units; ``shift`` converts log |det| back to the file's units
+    (:func:`_in_size_units`).  Large systems take a sparse LU per
+    frame (no dense matrix), and no SVD beyond :data:`SVD_ENTRIES` (their rank is
+    then known only where the determinant is not small).
     """
     F = finite.size
     nu, nc = _sizes(m, drivers)
@@ -382,8 +508,8 @@ def _direct(
     if square:
         for lo in range(0, idx.size, step):
             part = idx[lo : lo + step]
-            J, D = constraint_jacobian(m, geom, poses_at(poses, part), drivers)
-            sign[part], logdet[part] = np.linalg.slogdet(np.concatenate([J, D], axis=1))
+            sj = constraint_entries(m, geom, at(part), drivers)
+            sign[part], logdet[part] = _slogdets(sj)
         logdet = np.where(sign == 0, -np.inf, logdet + shift)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         det = sign * np.exp(logdet)
@@ -392,12 +518,17 @@ def _direct(
     look[np.linspace(0, F - 1, min(F, sample)).astype(int)] = True
     look |= ~(logdet >= top + np.log(NEAR_SINGULAR))  # small or undefined determinant
     look &= finite
+    if nu * nc > SVD_ENTRIES:
+        look[:] = False
     rank = np.full(F, -1)
+    if square and nu * nc > SVD_ENTRIES:
+        # a nonzero determinant of [J; D]: the rows of J are independent
+        rank[finite & (logdet >= top + np.log(NEAR_SINGULAR))] = nu
     kept: list[FloatArray] = []
     where = np.flatnonzero(look)
     for lo in range(0, where.size, step):
         part = where[lo : lo + step]
-        J, _ = constraint_jacobian(m, geom, poses_at(poses, part), drivers)
+        J, _ = constraint_jacobian(m, geom, at(part), drivers)
         rank[part] = _ranks(J, nu, nc)
         if sum(k.shape[0] for k in kept) < step:
             kept.append(J[: step - sum(k.shape[0] for k in kept)])
@@ -410,7 +541,7 @@ def _direct(
 def _factored(
     m: Mechanism,
     geom: Geometry,
-    poses: dict[str, Pose],
+    at: Callable[[npt.NDArray[np.intp]], dict[str, Pose]],
     drivers: tuple[str, ...],
     sample: int,
     factor: tuple[FloatArray, FloatArray],
@@ -418,7 +549,7 @@ def _factored(
     shift: float = 0.0,
 ) -> JacobianCheck | None:
     """The determinant from the plan's product, J on a few frames; None if it fails
-    (``geom``, ``poses`` and ``shift`` as in :func:`_direct`)."""
+    (``geom``, ``at`` and ``shift`` as in :func:`_direct`)."""
     sign, logf = factor
     F = logf.shape[0]
     nu, nc = _sizes(m, drivers)
@@ -432,31 +563,15 @@ def _factored(
     n = min(good.size, CALIBRATION_FRAMES)
     # evenly spread (integer arithmetic: distinct, in order)
     cal = good[[k * (good.size - 1) // max(n - 1, 1) for k in range(n)]]
-    # one frame at a time (a large mechanism's dense Jacobian is n^2 in memory); the
-    # matrices kept for the result stay within the memory budget
-    kept: list[FloatArray] = []
-    dets: list[tuple[float, float]] = []
-    if cal.size <= _chunk(nu, nc):
-        # small enough to build on all calibration frames in one call (the same
-        # elementwise arithmetic per frame: the same matrices, less call overhead)
-        Jc, Dc = constraint_jacobian(m, geom, poses_at(poses, cal), drivers)
-        JD = np.concatenate([Jc, Dc], axis=1)
-        if JD.shape[1] <= SPARSE_ROWS:
-            # one stacked LAPACK call: the same factorisation per matrix as _slogdet's
-            sc, lc = np.linalg.slogdet(JD)
-            dets = list(zip(sc.tolist(), lc.tolist(), strict=True))
-        else:
-            dets = [_slogdet(JD[i]) for i in range(cal.size)]
-        kept = [Jc]
-    for i in range(0 if dets else cal.size):
-        Ji, Di = constraint_jacobian(m, geom, poses_at(poses, cal[i : i + 1]), drivers)
-        dets.append(_slogdet(np.concatenate([Ji, Di], axis=1)[0]))
-        if len(kept) < _chunk(nu, nc):
-            kept.append(Ji)
-    J = np.concatenate(kept)
+    # [J; D] on the calibration frames as sparse entries (linear in the joints): a
+    # dense determinant for small systems, a sparse LU for large ones; the dense J is
+    # kept for the result only where it fits the memory budget
+    sj = constraint_entries(m, geom, at(cal), drivers)
+    s_dir, l_dir = _slogdets(sj)
+    fits = cal.size * 8 * nu * nc <= MEMORY_BUDGET
+    J = sj.dense()[0] if fits else np.zeros((0, nu, nc))
     cal_kept = cal[: J.shape[0]]
-    s_dir = np.array([d[0] for d in dets])
-    l_dir = np.array([d[1] for d in dets]) + shift
+    l_dir = l_dir + shift
     if not (np.isfinite(l_dir).all() and (s_dir != 0).all()):
         return None
     log_c = l_dir - logf[cal]
@@ -478,7 +593,7 @@ def _factored(
     if nu * nc > SVD_ENTRIES:
         weak = weak[:0]
     if weak.size:
-        Jw, _ = constraint_jacobian(m, geom, poses_at(poses, weak), drivers)
+        Jw, _ = constraint_jacobian(m, geom, at(weak), drivers)
         rank[weak] = _ranks(Jw, nu, nc)
     else:
         Jw = np.zeros((0, nu, nc))

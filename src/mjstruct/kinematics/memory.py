@@ -7,11 +7,12 @@ text, or the CSV table streamed in chunks), :func:`frames_that_fit` and
 ``MJSTRUCT_MAX_MEMORY_BYTES``) with the estimate and the largest frame count that fits.
 
 The estimate is linear in the frames, per *table item* (a joint, a point, a link or a
-closure unknown), plus, with the full checks (``checks="full"``), the dense constraint
-Jacobians they build on a few frames (quadratic in the size, independent of the
-frames).  The coefficients were measured with ``tracemalloc`` (peak of the call, 1000
-and 3000 frames, slope and intercept) on the four-bar, class-IV, Zhivago examples and
-k four-bars sharing one crank (10 to 1000 links):
+closure unknown), plus, with the full checks (``checks="full"``), the constraint
+Jacobians they build on a few frames (independent of the frames: sparse entries,
+linear in the size, and dense matrices only within a fixed budget).  The coefficients
+were measured with ``tracemalloc`` (peak of the call, 1000 and 3000 frames, slope and
+intercept) on the four-bar, class-IV, Zhivago examples and k four-bars sharing one
+crank (10 to 1000 links):
 
 * result, checks off: 40-51 bytes per item and frame (:data:`RESULT_BYTES` 60; the
   tables are views of the evaluation's arrays, made when read);
@@ -19,9 +20,9 @@ k four-bars sharing one crank (10 to 1000 links):
   checks go row by row, only the closure's Jacobian over the frames grows with them);
 * JSON text (the result, its lists of floats and the text): 358-380
   (:data:`JSON_BYTES` 420);
-* the full checks' dense Jacobians: 5 to 26 matrices of Nu × 3Ns doubles, depending
-  on how many they keep within their budget (:func:`dense_bytes`; 360 MB measured at
-  1000 links, 431 MB estimated).
+* the full checks' Jacobians (:func:`full_check_bytes`): sparse entries, about 12 kB
+  per link, and for small systems 5 to 26 dense matrices of Nu × 3Ns doubles within
+  their budget (12 MB measured at 1000 links, 24 MB at 2000).
 
 A CSV table to a file is streamed: the sweep is solved :data:`CHUNK_FRAMES` frames at
 a time (with a short lead-in from the reference, :data:`LEAD_FRAMES`), so its peak
@@ -49,7 +50,7 @@ import os
 from typing import Literal, NoReturn
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.jacobian import MEMORY_BUDGET
+from mjstruct.kinematics.jacobian import CALIBRATION_FRAMES, MEMORY_BUDGET, SVD_ENTRIES
 from mjstruct.kinematics.model import KinematicModel
 
 #: default limit on a sweep's estimated memory (bytes)
@@ -63,6 +64,8 @@ CHECKS_BYTES = 10
 #: bytes per table item and frame of the JSON path, result and checks included
 #: (measured 358-380)
 JSON_BYTES = 420
+#: bytes per link of the full check's sparse Jacobian entries and LU (measured 12 kB)
+FULL_CHECK_LINK_BYTES = 16_000
 #: bytes the checks need whatever the size (measured 0.04-1.6 MB)
 CHECKS_FIXED = 2**18
 #: frames solved at once when the CSV table is streamed to a file
@@ -81,18 +84,27 @@ def table_items(model: KinematicModel) -> int:
     return len(m.joints) + len(m.points) + len(m.links) + model.plan.unknowns
 
 
-def dense_bytes(model: KinematicModel) -> int:
-    """Bytes of the dense constraint Jacobians the checks hold at once.
+def full_check_bytes(model: KinematicModel) -> int:
+    """Bytes the full Jacobian check holds at once, whatever the frames.
 
-    The checks keep at most ``MEMORY_BUDGET / matrix`` matrices (and at least one);
-    with the copies made around them the measured peak was 5 matrices at one kept,
-    17 at three and 24-26 at five or more: about ``2 + 4 × kept`` (kept at most 5).
+    ``[J; D]`` is built as sparse entries (linear in the joints; with the sparse LU
+    of large systems about :data:`FULL_CHECK_LINK_BYTES` per link, measured 12 kB at
+    1000 and 2000 links); dense matrices only where they fit the check's budget: the
+    calibration frames' J kept for the result, and J at the determinant's dips for
+    the SVD of the rank (systems of at most ``SVD_ENTRIES`` entries).  Those keep at
+    most ``MEMORY_BUDGET / matrix`` matrices; with the copies made around them the
+    measured peak was 5 matrices at one kept, 17 at three and 24-26 at five or more:
+    about ``2 + 4 × kept`` (kept at most 5), and never more than three budgets.
     """
     m = model.mechanism
     nu = sum(2 * (len(j.links) - 1) if j.kind == "R" else 2 for j in m.joints)
-    matrix = 8 * (nu + len(model.drivers)) * 3 * (len(m.links) - 1)
+    nc = 3 * (len(m.links) - 1)
+    matrix = 8 * (nu + len(model.drivers)) * nc
+    sparse = FULL_CHECK_LINK_BYTES * len(m.links)
+    if nu * nc > SVD_ENTRIES and CALIBRATION_FRAMES * matrix > MEMORY_BUDGET:
+        return sparse  # no dense matrix at all
     kept = min(5, max(1, MEMORY_BUDGET // max(matrix, 1)))
-    return matrix * (2 + 4 * kept)
+    return sparse + min(matrix * (2 + 4 * kept), 3 * MEMORY_BUDGET)
 
 
 def _per_frame(model: KinematicModel, output: Output, checks: Checks) -> int:
@@ -101,10 +113,10 @@ def _per_frame(model: KinematicModel, output: Output, checks: Checks) -> int:
 
 
 def _fixed(model: KinematicModel, checks: Checks) -> int:
-    """The checks' memory whatever the frames: the full check's dense Jacobians."""
+    """The checks' memory whatever the frames (the full check's Jacobians)."""
     if not checks:
         return 0
-    return CHECKS_FIXED + (dense_bytes(model) if checks == "full" else 0)
+    return CHECKS_FIXED + (full_check_bytes(model) if checks == "full" else 0)
 
 
 def sweep_bytes(
