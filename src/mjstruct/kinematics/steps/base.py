@@ -115,6 +115,9 @@ class Run:
     solved: dict[str, Jet] = field(default_factory=dict)
     residuals: list[Jet] = field(default_factory=list)
     diag: dict[int, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+    #: joint -> its centre's jet carried by its first link (filled by :meth:`centre`;
+    #: a link's pose does not change once placed)
+    carried: dict[str, Jet] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.first = FirstLinks(self.mechanism, self.poses)
@@ -131,10 +134,16 @@ class Run:
         order.setdefault(link, len(order))
 
     def centre(self, joint: str) -> Jet:
-        """Jet of a known joint centre."""
+        """Jet of a known joint centre (carried once per evaluation: a closure reads
+        the centres its last placement read)."""
         if joint in self.solved:
             return self.solved[joint]
-        return self.poses[self.first[joint]].carry(self.geometry.centres[joint])
+        got = self.carried.get(joint)
+        if got is None:
+            got = self.carried[joint] = self.poses[self.first[joint]].carry(
+                self.geometry.centres[joint]
+            )
+        return list(got)
 
     def mode(self, k: int, reference: int) -> npt.NDArray[Any] | int:
         """Assembly mode of step ``k`` (given, else the reference configuration's)."""
