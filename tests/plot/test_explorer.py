@@ -214,3 +214,29 @@ def test_the_explorer_in_a_kernel_redraws_when_its_sliders_move(tmp_path):
     # a geometry that cannot be drawn: a message, no traceback
     assert "this geometry cannot be drawn" in out["message"]
     assert "Traceback" not in text
+
+
+def test_a_prismatic_driver_slides_over_its_stroke():
+    d = mechanism_to_dict(read_mechanism(EXAMPLES / "slider-crank.json"))
+    d["drivers"] = ["O4"]  # the piston's slide drives the crank
+    view = ExplorerView(mechanism_from_dict(d), frames=60, stroke=0.3)
+    assert view.unit == "length" and view.driver_range() == (0.0, 0.3, 0.005)
+    view.set_driver(0.05)
+    assert view.q[0] == pytest.approx(0.05) and view.assembles
+    # the slide's limits: the block where crank and rod are in line, |B(s) - O1| = l2 ± l1
+    # (stretched out, folded): the slides s where that holds
+    c = {j["id"]: complex(*j["at"]) for j in d["joints"]}
+    (u,) = [complex(*j["axis"]) for j in d["joints"] if j["id"] == "O4"]
+    u /= abs(u)
+    l1, l2 = abs(c["A"] - c["O1"]), abs(c["B"] - c["A"])
+    w = c["B"] - c["O1"]  # |w + s u|^2 = r^2: s^2 + 2 Re(w conj u) s + |w|^2 - r^2 = 0
+    b = (w * u.conjugate()).real
+    roots = [-b + sign * np.sqrt(b * b - abs(w) ** 2 + r**2) for r in (l2 + l1, l2 - l1)
+             for sign in (-1, 1)]  # fmt: skip
+    limits = sorted(p.q for p in view.singular_positions() if p.kind == "input_limit")
+    assert len(limits) == 2 and all(min(abs(x - np.array(roots))) < 1e-9 for x in limits)
+    assert limits[1] == pytest.approx(roots[1], abs=1e-9)  # stretched out, ahead
+    view.set_driver(0.5 * (limits[1] + 0.3))  # beyond the crank's reach
+    assert not view.assembles
+    (marks,) = artists(view.strip, "singular:input_limit")
+    assert sorted(marks.get_xdata()) == sorted(limits)

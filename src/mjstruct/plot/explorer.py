@@ -55,6 +55,7 @@ def explore(
     frames: int = 360,
     paths: Iterable[str] | None = None,
     reach: float = 0.5,
+    stroke: float = 1.0,
     radians: bool = False,
     dpi: int = 80,
     width: float = 6.0,
@@ -77,6 +78,8 @@ def explore(
         points, else the moving joints).
     reach : how far a joint's sliders go each way, as a fraction of the mechanism's
         size (the largest distance between two joint centres).
+    stroke : a prismatic driver's slide over the cycle, from its reference (length
+        units; as ``animate --stroke``).
     radians : driver angles in radians (default: degrees, 0 to 360).
     dpi, width : the picture's resolution and width (inches).
 
@@ -93,7 +96,7 @@ def explore(
     if not (isinstance(reach, int | float) and np.isfinite(reach) and reach > 0):
         raise MechanismError(f"reach: must be a finite number > 0, got {reach!r}")
     view = ExplorerView(mechanism, joints, frames=frames, paths=paths, dpi=dpi, width=width,
-                        radians=radians)  # fmt: skip
+                        radians=radians, stroke=stroke)  # fmt: skip
     return Explorer(view, float(reach))
 
 
