@@ -432,12 +432,15 @@ class ExplorerView:
             else:
                 lines.append(f"assembles on {n} of the cycle's {self.frames} frames")
         if r is not None and r.singular:
-            words = ", ".join(f"{KIND_WORDS[p.kind]} at {self.text(p.q)}" for p in r.singular)
+            ordered = sorted(r.singular, key=lambda p: self.display(p.q))
+            words = ", ".join(f"{KIND_WORDS[p.kind]} at {self.text(p.q)}" for p in ordered)
             lines.append(f"singular positions: {words}")
         elif r is not None:
             lines.append("no singular positions")
         else:
             lines.append(self.singular_note)
+        if r is not None:
+            lines += [f"singular analysis: {w}" for w in r.warnings]
         if not self.assembles:
             lines.append(f"at {d} = {self.text(float(self.q[0]))} the mechanism does not assemble")
         lines += [f"warning: {w}" for w in self.notes]
