@@ -64,6 +64,8 @@ from mjstruct.synthesis.contracted import (
 )
 from mjstruct.synthesis.job_size import CHAIN_LIMIT, chain_count_estimate, check_size
 
+Joints = tuple[tuple[int, ...], ...]
+
 
 @dataclass(frozen=True)
 class Chain:
@@ -155,6 +157,12 @@ def chain_code(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, bytes, pyn
         return code_of("c", n, p, sizes, cert), cert, g
     cert = pynauty.certificate(g)
     return code_of("c", n, p, f"{n}.{p}", cert), cert, g
+
+
+def canonical_chain(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, Joints]:
+    """Canonical code and canonical joints (links in nauty's canonical order, sorted)."""
+    code, _, g = chain_code(n, joints)
+    return code, _canonical_joints(n, g)
 
 
 def _canonical_joints(n: int, g: pynauty.Graph) -> tuple[tuple[int, ...], ...]:
@@ -314,28 +322,29 @@ def expand(cg: ContractedGraph, b: Sequence[int]) -> tuple[int, list[list[int]]]
 
 def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]:
     """Every admissible chain on the contracted graphs of one branch-vertex multiset."""
+    from threadpoolctl import threadpool_limits
+
+    from mjstruct.synthesis.distributions import distributions_of
+    from mjstruct.synthesis.expansion import expand_rows, labelled_chains
+
     sequence, n, F, fractionated = task
     out: list[Chain] = []
-    n_branch_links = sum(1 for c, _ in sequence if c == "L")
-    for cg in contracted_graphs(sequence, fractionated):
-        minima = [edge_minimum(cg, u, v) for u, v in cg.edges]
-        dist = compositions(n - n_branch_links, minima)
-        if not len(dist):
-            continue
-        dist = dist[admissible_distributions(cg, dist)]
-        planar, frac = cg.is_planar(), cg.is_fractionated()
-        seen: set[bytes] = set()
-        for row in dist.tolist():
-            nn, joints = expand(cg, row)
-            code, cert, g = chain_code(nn, joints)
-            if cert in seen:
+    binaries = n - sum(1 for c, _ in sequence if c == "L")
+    shared: dict[tuple[int, int], dict[int, tuple[int, ...]]] = {}  # a tuple per joint
+    # many small matrix products: BLAS threads would cost more than they save
+    with threadpool_limits(limits=1, user_api="blas"):
+        graphs = contracted_graphs(sequence, fractionated)
+        for cg, rows in distributions_of(graphs, binaries):
+            if not len(rows):
                 continue
-            seen.add(cert)
-            canon = _canonical_joints(nn, g)
-            la, mja = _assortments(nn, canon)
+            chains = expand_rows(cg, rows, binaries)
+            nn, first = chains.n, chains.joints(0)
+            la, mja = _assortments(nn, first)  # the task fixes them
             V = sum((k + 1) * nu for k, nu in enumerate(mja))
-            K = sum(len(j) - 1 for j in canon) - nn + 1
-            out.append(Chain(code, nn, canon, la, mja, V, K, F, planar, frac))
+            K = sum(len(j) - 1 for j in first) - nn + 1
+            planar, frac = cg.is_planar(), cg.is_fractionated()
+            for code, canon in labelled_chains(chains, shared):
+                out.append(Chain(code, nn, canon, la, mja, V, K, F, planar, frac))
     return out
 
 

@@ -29,9 +29,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import networkx as nx
-import pynauty
 
-from mjstruct.structure.isomorphism import nauty_graph
+from mjstruct.synthesis.nauty_calls import certificate, light_graph
 
 Vertex = tuple[str, int]  # (colour "L" or "J", degree)
 
@@ -60,20 +59,45 @@ class ContractedGraph:
     def has_loops(self) -> bool:
         return any(u == v for u, v in self.edges)
 
+    def _reach(self, start: int, allowed: int) -> int:
+        """Vertices (bitmask) reachable from ``start`` inside the set ``allowed``."""
+        near = [0] * self.order
+        for u, v in self.edges:
+            near[u] |= 1 << v
+            near[v] |= 1 << u
+        seen = frontier = 1 << start
+        while frontier:
+            grown = 0
+            for u in range(self.order):
+                if frontier >> u & 1:
+                    grown |= near[u]
+            frontier = grown & allowed & ~seen
+            seen |= frontier
+        return seen
+
+    def is_connected(self) -> bool:
+        everyone = (1 << self.order) - 1
+        return self.order > 0 and self._reach(0, everyone) == everyone
+
     def is_fractionated(self) -> bool:
         """Whether the chains built on this graph have a cut vertex (link or joint)."""
-        if self.has_loops():
+        if self.has_loops() or not self.is_connected():
             return True
-        g = nx.Graph(self.edges)
-        g.add_nodes_from(range(self.order))
         if self.order <= 2:
-            return not nx.is_connected(g)
-        return not nx.is_biconnected(g)
+            return False
+        everyone = (1 << self.order) - 1
+        for cut in range(self.order):
+            rest = everyone & ~(1 << cut)
+            if self._reach(0 if cut else 1, rest) != rest:
+                return True
+        return False
 
     def is_planar(self) -> bool:
         """Planarity of the chains built on it (subdividing edges keeps planarity)."""
-        g = nx.Graph((u, v) for u, v in self.edges if u != v)
-        return bool(nx.check_planarity(g)[0])
+        simple = {(u, v) for u, v in self.edges if u != v}
+        if len(simple) < 9:  # K5 and K3,3 have 10 and 9 edges
+            return True
+        return bool(nx.check_planarity(nx.Graph(simple))[0])
 
 
 def degree_sequences(K: int, mj: bool) -> list[tuple[Vertex, ...]]:
@@ -115,10 +139,9 @@ def _certificate(
     for k, (u, v) in enumerate(edges):
         classes.setdefault((1, "loop" if u == v else "edge", 0), set()).add(nv + k)
     ends = [[u] if u == v else [u, v] for u, v in edges]
-    g = nauty_graph(nv, ends, [classes[k] for k in sorted(classes)])
+    g = light_graph(nv, ends, [classes[k] for k in sorted(classes)])
     tag = repr(sorted((k, len(c)) for k, c in classes.items())).encode()
-    cert: bytes = pynauty.certificate(g)
-    return tag + b"|" + cert
+    return tag + b"|" + certificate(g)
 
 
 def _complete_vertex(
@@ -176,10 +199,7 @@ def contracted_graphs(sequence: tuple[Vertex, ...], fractionated: bool) -> list[
     for cert in sorted(states):
         _, edges = states[cert]
         cg = ContractedGraph(tuple(colours), tuple(sorted(edges)))
-        g = nx.MultiGraph()
-        g.add_nodes_from(range(nv))
-        g.add_edges_from(cg.edges)
-        if not nx.is_connected(g):
+        if not cg.is_connected():
             continue
         if not fractionated and cg.is_fractionated():
             continue
