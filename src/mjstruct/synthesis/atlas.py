@@ -67,12 +67,13 @@ from mjstruct.synthesis.job_size import CHAIN_LIMIT, chain_count_estimate, check
 Joints = tuple[tuple[int, ...], ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Chain:
     """One chain of an atlas: links 0..n-1 in nauty's canonical order.
 
     ``joints`` lists, per joint, the links it joins (sorted; joints sorted too), so a
     script can rebuild the chain; ``LA`` = (n2, n3, ...), ``MJA`` = (ν2, ν3, ...).
+    Slotted (no per-chain dictionary): an atlas holds hundreds of thousands.
     """
 
     canonical: str
@@ -192,17 +193,9 @@ def _assortments(n: int, joints: Sequence[Sequence[int]]) -> tuple[tuple[int, ..
 # -- expansion of a contracted graph ------------------------------------------------
 
 
-def edge_minimum(cg: ContractedGraph, u: int, v: int) -> int:
-    """The fewest binary links edge uv of a contracted graph must carry (0 allowed
-    between a link and a joint; a loop needs links to avoid a link twice on one joint)."""
-    cu, cv = cg.colours[u], cg.colours[v]
-    if u == v:
-        return 1 if cu == "L" else 2  # fewer: a link twice on one joint
-    return 1 if cu == cv == "J" else 0
-
-
 def compositions(total: int, minima: list[int]) -> np.ndarray:
-    """All integer vectors b >= minima with Σ b = total, one per row."""
+    """All integer vectors b >= minima with Σ b = total, one per row (every
+    distribution, before any test: the reference the fast generation is checked by)."""
     e = len(minima)
     free = total - sum(minima)
     if free < 0:
@@ -211,88 +204,6 @@ def compositions(total: int, minima: list[int]) -> np.ndarray:
     cuts = cuts.reshape(-1, e - 1)
     bounds = np.hstack([np.full((len(cuts), 1), -1), cuts, np.full((len(cuts), 1), free + e - 1)])
     return np.diff(bounds, axis=1) - 1 + np.asarray(minima, dtype=np.int64)
-
-
-_CHUNK = 2048  # rows of distributions tested at once (bounds memory)
-
-
-def _connected_subsets(cg: ContractedGraph) -> list[int]:
-    """Vertex sets W (bitmasks) whose edges inside W connect W and that hold an edge.
-
-    Enough for the admissibility test: the mobility of a disconnected W is the sum of
-    its parts' plus 3 per extra part, and a part holding at most one link has
-    mobility >= -1, so a rigid disconnected W always contains a rigid connected part.
-    """
-    nbr = [0] * cg.order
-    for u, v in cg.edges:
-        nbr[u] |= 1 << v
-        nbr[v] |= 1 << u
-    out = []
-    for w in range(1, 1 << cg.order):
-        if not any(w >> u & 1 and w >> v & 1 for u, v in cg.edges):
-            continue
-        seen = w & -w
-        frontier = seen
-        while frontier:
-            grow = 0
-            for u in range(cg.order):
-                if frontier >> u & 1:
-                    grow |= nbr[u]
-            frontier = grow & w & ~seen
-            seen |= frontier
-        if seen == w:
-            out.append(w)
-    return out
-
-
-def admissible_distributions(
-    cg: ContractedGraph, binaries: np.ndarray, threshold: int = 1
-) -> np.ndarray:
-    """Mask of the rows of ``binaries`` (binary links per edge) giving admissible chains.
-
-    ``threshold`` is the least sub-chain mobility allowed (1: no rigid sub-chain; 0 is
-    a necessary condition for the minimal rigid structures behind Assur groups).
-
-    Exact: the minimum sub-chain mobility over all link sets equals the minimum over
-    vertex sets W of ``3|W_L| + 2|W_J| - 3 + Σ_{e in W} min(b_e - 2, 0)``, with one
-    edge of b_e >= 3 added when W alone holds fewer than two links.
-    """
-    nv = cg.order
-    subsets = np.array(_connected_subsets(cg), dtype=np.int64)
-    bits = (subsets[:, None] >> np.arange(nv)[None, :]) & 1
-    is_link = np.array([c == "L" for c in cg.colours])
-    n_links = bits[:, is_link].sum(axis=1)
-    base = (3 * n_links + 2 * bits[:, ~is_link].sum(axis=1) - 3).astype(np.float64)
-    us = [u for u, _ in cg.edges]
-    vs = [v for _, v in cg.edges]
-    inside = bits[:, us] & bits[:, vs]  # (subset, edge): both ends in W
-    inside_t = inside.T.astype(np.float64)  # float matmul goes through BLAS; values exact
-    short = np.nonzero(n_links <= 1)[0]
-    big = 1e9
-    penalty = np.where(inside[short], 0.0, big)  # only edges inside W may be added
-    b = binaries
-    ok = np.empty(len(b), dtype=bool)
-    for start in range(0, len(b), _CHUNK):
-        bb = b[start : start + _CHUNK]
-        mobility = base[None, :] + np.minimum(bb - 2, 0).astype(np.float64) @ inside_t
-        if len(short):
-            size = (
-                n_links[None, short]
-                + np.where(bb <= 2, bb, 0).astype(np.float64) @ (inside_t[:, short])
-            )
-            cost = np.where(bb >= 3, bb - 2, big).astype(np.float64)
-            extra = (cost[:, None, :] + penalty[None, :, :]).min(axis=2)
-            mobility[:, short] += np.where(size < 2, extra, 0.0)
-        ok[start : start + _CHUNK] = (mobility >= threshold).all(axis=1)
-    # a link may sit on a multiple joint only once: at most one direct L–J edge per pair
-    seen: dict[tuple[int, int], list[int]] = {}
-    for k, (u, v) in enumerate(cg.edges):
-        if u != v and cg.colours[u] != cg.colours[v]:
-            seen.setdefault((u, v), []).append(k)
-    for ks in seen.values():
-        if len(ks) > 1:
-            ok &= (b[:, ks] == 0).sum(axis=1) <= 1
-    return np.asarray(ok)
 
 
 def expand(cg: ContractedGraph, b: Sequence[int]) -> tuple[int, list[list[int]]]:
@@ -320,32 +231,71 @@ def expand(cg: ContractedGraph, b: Sequence[int]) -> tuple[int, list[list[int]]]
     return n, simple + [multiple[v] for v in sorted(multiple)]
 
 
+_BLAS: list[Any] = []  # threadpoolctl's controller, made once (it scans the libraries)
+
+
+def _one_blas_thread() -> Any:
+    """A context limiting BLAS to one thread: the tests of distributions are many small
+    matrix products, for which waking BLAS threads costs more than it saves."""
+    if not _BLAS:
+        from threadpoolctl import ThreadpoolController
+
+        _BLAS.append(ThreadpoolController())
+    return _BLAS[0].limit(limits=1, user_api="blas")
+
+
+_LIBC: list[Any] = []  # glibc, once (None elsewhere)
+
+
+def _return_free_memory() -> None:
+    """Give the memory freed by the previous task back to the system: glibc keeps it
+    otherwise, and a worker that ran a large task would hold it to the end (the
+    largest tasks run first)."""
+    if not _LIBC:
+        import ctypes
+
+        try:
+            _LIBC.append(ctypes.CDLL("libc.so.6").malloc_trim)
+        except (OSError, AttributeError):
+            _LIBC.append(None)
+    if _LIBC[0] is not None:
+        _LIBC[0](0)
+
+
 def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]:
     """Every admissible chain on the contracted graphs of one branch-vertex multiset."""
-    from threadpoolctl import threadpool_limits
-
     from mjstruct.synthesis.distributions import distributions_of
     from mjstruct.synthesis.expansion import expand_rows, labelled_chains
+    from mjstruct.synthesis.parallel import collection_paused
 
     sequence, n, F, fractionated = task
-    out: list[Chain] = []
+    _return_free_memory()
     binaries = n - sum(1 for c, _ in sequence if c == "L")
+    graphs = contracted_graphs(sequence, fractionated)
+    # the steps that make many objects and no reference cycles run with the cyclic
+    # collector paused; the planarity test (networkx: cycles) runs between them
+    with _one_blas_thread(), collection_paused():
+        found = [(cg, rows) for cg, rows in distributions_of(graphs, binaries) if len(rows)]
+    flags = [(cg.is_planar(), cg.is_fractionated()) for cg, _ in found]
+    out: list[Chain] = []
     shared: dict[tuple[int, int], dict[int, tuple[int, ...]]] = {}  # a tuple per joint
-    # many small matrix products: BLAS threads would cost more than they save
-    with threadpool_limits(limits=1, user_api="blas"):
-        graphs = contracted_graphs(sequence, fractionated)
-        for cg, rows in distributions_of(graphs, binaries):
-            if not len(rows):
-                continue
+    with collection_paused():
+        for (cg, rows), (planar, frac) in zip(found, flags, strict=True):
             chains = expand_rows(cg, rows, binaries)
             nn, first = chains.n, chains.joints(0)
             la, mja = _assortments(nn, first)  # the task fixes them
             V = sum((k + 1) * nu for k, nu in enumerate(mja))
             K = sum(len(j) - 1 for j in first) - nn + 1
-            planar, frac = cg.is_planar(), cg.is_fractionated()
             for code, canon in labelled_chains(chains, shared):
                 out.append(Chain(code, nn, canon, la, mja, V, K, F, planar, frac))
+        # the task fixes V, [MJA] and [LA]: sorted by code here, the caller only
+        # orders the tasks (in the workers, not in the parent)
+        out.sort(key=_code_of_chain)
     return out
+
+
+def _code_of_chain(chain: Chain) -> str:
+    return chain.canonical
 
 
 def _cycle(n: int, F: int) -> Chain:
@@ -358,12 +308,17 @@ def _cycle(n: int, F: int) -> Chain:
 def atlas_tasks(
     F: int, n: int, mj: bool = False, fractionated: bool = False
 ) -> list[tuple[tuple[Vertex, ...], int, int, bool]]:
-    """The independent tasks of an atlas (one per branch-vertex multiset)."""
+    """The independent tasks of an atlas (one per branch-vertex multiset).
+
+    A fractionated chain has F = F_A + F_B (a cut link) or F_A + F_B + 1 (a cut joint)
+    with parts of F >= 1 each: none has F = 1, so its tasks skip the contracted graphs
+    with cut vertices even when ``fractionated`` is asked.
+    """
     K2 = n - 1 - F
     if K2 % 2 or K2 < 4:
         return []
     K = K2 // 2
-    return [(seq, n, F, fractionated) for seq in degree_sequences(K, mj)]
+    return [(seq, n, F, fractionated and F >= 2) for seq in degree_sequences(K, mj)]
 
 
 def atlas(
@@ -407,14 +362,23 @@ def atlas(
     estimate = chain_count_estimate(F, n, mj, fractionated)
     check_size(estimate, kind, limit, "limit", loops=(n - 1 - F) // 2)
     result = Atlas(F, n, mj, fractionated)
-    if n - 1 - F == 2 and n >= 4:  # K = 1: the n-gon
+    if n - 1 - F == 2 and n >= 4:  # K = 1: the n-gon (and no task)
         result.chains.append(_cycle(n, F))
-    tasks = atlas_tasks(F, n, mj, fractionated)
+    # the largest tasks (most branch vertices) first, so that no worker is left with
+    # one at the end; the chains are sorted afterwards, so the order does not matter
+    tasks = atlas_tasks(F, n, mj, fractionated)[::-1]
     from mjstruct.synthesis.parallel import run_tasks
 
-    for chains in run_tasks(
-        _task_chains, tasks, workers=workers, progress=progress, scheduler=scheduler
-    ):
+    # a task's chains share (V, [MJA], [LA]), which no other task has, and come
+    # sorted by code: ordering the tasks is ordering the chains by sort_key
+    done = [
+        c
+        for c in run_tasks(
+            _task_chains, tasks, workers=workers, progress=progress, scheduler=scheduler
+        )
+        if c
+    ]
+    done.sort(key=lambda chains: chains[0].sort_key())
+    for chains in done:
         result.chains.extend(chains)
-    result.chains.sort(key=Chain.sort_key)
     return result

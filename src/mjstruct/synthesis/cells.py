@@ -41,11 +41,12 @@ from mjstruct.structure.mobility import link_count
 
 ENUMERATION_LIMIT = 20_000
 """Largest estimated number of chains :func:`code_counts` enumerates (beyond the shipped
-catalogs) without being asked: about 10 s on one core of a 2-core machine."""
+catalogs) without being asked: a few seconds on one core of a 2-core machine."""
 
 #: chains enumerated per second and worker, slowest and fastest measured (atlas with
-#: MJs and fractionated chains, F = 1 at 10 links and F = 2 at 11 links, loaded machine)
-CHAINS_PER_SECOND = (1000, 3000)
+#: MJs and fractionated chains, F = 1 at 10 and 12 links and F = 2 at 11 links: wall
+#: time at load 7 on 2 cores, CPU time)
+CHAINS_PER_SECOND = (2500, 20000)
 
 
 @dataclass(frozen=True)
@@ -156,8 +157,8 @@ def check_enumeration_size(F: int, kmax: int, limit: int | None, workers: int = 
     Traceback (most recent call last):
     ...
     mjstruct.errors.MechanismError: limit: K = 5 (12 links) is not in the shipped \
-catalogs: about 2.5e+05 chains to enumerate (more than 20000), about 1.4 to 4.1 min \
-on one worker
+catalogs: about 2.5e+05 chains to enumerate (more than 20000), about 12 to 99 s on \
+one worker
     """
     from mjstruct.synthesis.job_size import SMALL_LOOPS, size_text
 
@@ -186,9 +187,9 @@ def duration_text(chains: int, workers: int = 1) -> str:
     """How long enumerating ``chains`` takes, as the range measured (CHAINS_PER_SECOND).
 
     >>> duration_text(248203)
-    'about 1.4 to 4.1 min on one worker'
-    >>> duration_text(2_000, 2), duration_text(10**9)
-    ('about 0.33 to 1 s on 2 workers', 'about 3.9 to 12 days on one worker')
+    'about 12 to 99 s on one worker'
+    >>> duration_text(2_000, 2), duration_text(10**10)
+    ('about 0.05 to 0.4 s on 2 workers', 'about 5.8 to 46 days on one worker')
     """
     slow, fast = (chains / (rate * workers) for rate in CHAINS_PER_SECOND)
     unit, size = next(

@@ -144,6 +144,22 @@ def _certificate(
     return tag + b"|" + certificate(g)
 
 
+def _spread(
+    i: int, later: list[int], residual: list[int], k: int, left: int, acc: list[tuple[int, int]]
+) -> Iterator[list[tuple[int, int]]]:
+    """Every way to give ``left`` edges from vertex i to the vertices ``later[k:]``."""
+    if left == 0:
+        yield list(acc)
+        return
+    if k == len(later):
+        return
+    j = later[k]
+    for mult in range(min(left, residual[j]), -1, -1):
+        acc.extend([(i, j)] * mult)
+        yield from _spread(i, later, residual, k + 1, left - mult, acc)
+        del acc[len(acc) - mult :]
+
+
 def _complete_vertex(
     i: int, residual: list[int], loops_ok: bool, colours: list[str]
 ) -> Iterator[list[tuple[int, int]]]:
@@ -151,21 +167,8 @@ def _complete_vertex(
     nv = len(residual)
     r = residual[i]
     later = [j for j in range(i + 1, nv) if residual[j] > 0]
-
-    def spread(k: int, left: int, acc: list[tuple[int, int]]) -> Iterator[list[tuple[int, int]]]:
-        if left == 0:
-            yield list(acc)
-            return
-        if k == len(later):
-            return
-        j = later[k]
-        for mult in range(min(left, residual[j]), -1, -1):
-            acc.extend([(i, j)] * mult)
-            yield from spread(k + 1, left - mult, acc)
-            del acc[len(acc) - mult :]
-
     for nloops in range(r // 2 if loops_ok else 0, -1, -1):
-        for edges in spread(0, r - 2 * nloops, []):
+        for edges in _spread(i, later, residual, 0, r - 2 * nloops, []):
             yield [(i, i)] * nloops + edges
 
 

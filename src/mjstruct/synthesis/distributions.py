@@ -35,16 +35,14 @@ array([[0, 2, 2],
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
-import pynauty
 
-from mjstruct.structure.isomorphism import nauty_graph
 from mjstruct.synthesis.contracted import ContractedGraph
+from mjstruct.synthesis.nauty_calls import automorphism_generators, light_graph
 
-ROWS = 1 << 15
+ROWS = 8192
 """Rows of partial distributions extended at once (bounds the memory of a level)."""
 
 KEY_CELLS = 1 << 21
@@ -74,7 +72,7 @@ def edge_automorphisms(cg: ContractedGraph) -> np.ndarray:
     loops = [nv + k for k, (u, v) in enumerate(cg.edges) if u == v]
     others = [nv + k for k, (u, v) in enumerate(cg.edges) if u != v]
     ends = [[u] if u == v else [u, v] for u, v in cg.edges]
-    generators = pynauty.autgrp(nauty_graph(nv, ends, [links, joints, others, loops]))[0]
+    generators = automorphism_generators(light_graph(nv, ends, [links, joints, others, loops]))
     moves = [tuple(g[nv + k] - nv for k in range(ne)) for g in generators]
     identity = tuple(range(ne))
     group = {identity}
@@ -94,7 +92,10 @@ def edge_automorphisms(cg: ContractedGraph) -> np.ndarray:
 @dataclass(frozen=True)
 class VertexSets:
     """The vertex sets W of a contracted graph that the admissibility test visits:
-    those whose inside edges connect them (and hold at least one edge).
+    those whose inside edges connect them (and hold at least one edge).  Enough: the
+    mobility of a disconnected W is the sum of its parts' plus 3 per extra part, and a
+    part holding at most one link has mobility >= -1, so a rigid disconnected W always
+    contains a rigid connected part.
 
     ``bits[w, v]``: v in W; ``inside[w, e]``: both ends of edge e in W; ``links``:
     links in W; ``base``: ``3|W_L| + 2|W_J| - 3``.
@@ -108,29 +109,27 @@ class VertexSets:
     @classmethod
     def of(cls, cg: ContractedGraph) -> VertexSets:
         nv = cg.order
-        masks = np.arange(1, 1 << nv, dtype=np.int64)
-        bits = (masks[:, None] >> np.arange(nv)) & 1
-        us = np.array([u for u, _ in cg.edges], dtype=np.int64)
-        vs = np.array([v for _, v in cg.edges], dtype=np.int64)
-        inside = bits[:, us] & bits[:, vs]
-        keep = inside.any(axis=1)
-        masks, bits, inside = masks[keep], bits[keep], inside[keep]
-        # connected through inside edges: grow from the lowest vertex
         adjacent = [0] * nv
         for u, v in cg.edges:
             adjacent[u] |= 1 << v
             adjacent[v] |= 1 << u
-        seen = masks & -masks
+        # near[m]: the neighbours of the vertex set m, built by highest vertex
+        near = np.zeros(1 << nv, dtype=np.int64)
+        for i in range(nv):
+            near[1 << i : 2 << i] = near[: 1 << i] | adjacent[i]
+        masks = np.arange(1 << nv, dtype=np.int64)
+        seen = masks & -masks  # grow from the lowest vertex inside the set
         while True:
-            reach = seen.copy()
-            for u in range(nv):
-                reach |= np.where(seen >> u & 1, adjacent[u], 0)
-            reach &= masks
+            reach = (seen | near[seen]) & masks
             if np.array_equal(reach, seen):
                 break
             seen = reach
-        connected = seen == masks
-        bits, inside = bits[connected], inside[connected]
+        bits = (masks[:, None] >> np.arange(nv)) & 1
+        us = np.array([u for u, _ in cg.edges], dtype=np.int64)
+        vs = np.array([v for _, v in cg.edges], dtype=np.int64)
+        inside = bits[:, us] & bits[:, vs]
+        keep = (seen == masks) & inside.any(axis=1)
+        bits, inside = bits[keep], inside[keep]
         is_link = np.array([c == "L" for c in cg.colours])
         links = bits[:, is_link].sum(axis=1)
         base = 3 * links + 2 * bits[:, ~is_link].sum(axis=1) - 3
@@ -175,6 +174,29 @@ def mobility_ok(
     return ok
 
 
+def admissible_distributions(
+    cg: ContractedGraph, binaries: np.ndarray, threshold: int = 1
+) -> np.ndarray:
+    """Mask of the rows of ``binaries`` (binary links per edge) giving admissible chains.
+
+    ``threshold`` is the least sub-chain mobility allowed (1: no rigid sub-chain; 0 is
+    a necessary condition for the minimal rigid structures behind Assur groups).
+
+    Exact: the minimum sub-chain mobility over all link sets equals the minimum over
+    the vertex sets W of :class:`VertexSets` (:func:`mobility_ok`); and a link sits
+    on a multiple joint once (at most one direct link–joint edge per pair).
+    """
+    ok = mobility_ok(VertexSets.of(cg), binaries, threshold)
+    seen: dict[tuple[int, int], list[int]] = {}
+    for k, (u, v) in enumerate(cg.edges):
+        if u != v and cg.colours[u] != cg.colours[v]:
+            seen.setdefault((u, v), []).append(k)
+    for ks in seen.values():
+        if len(ks) > 1:
+            ok &= (binaries[:, ks] == 0).sum(axis=1) <= 1
+    return ok
+
+
 def edge_order(cg: ContractedGraph) -> ContractedGraph:
     """``cg`` with its edges reordered so that small vertex sets are complete early:
     vertices in maximum-adjacency order (links first among equals), edges by their
@@ -207,9 +229,7 @@ def edge_order(cg: ContractedGraph) -> ContractedGraph:
     return ContractedGraph(cg.colours, tuple(edges))
 
 
-def _extend(
-    rows: np.ndarray, low: np.ndarray, high: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def _extend(rows: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Every row once for each value low..high of the next edge: (rows, which row)."""
     count = np.maximum(high - low + 1, 0)
     total = int(count.sum())
@@ -221,10 +241,10 @@ def _extend(
     return out, parent
 
 
-def _leafless_long_sets(cg: ContractedGraph, sets: VertexSets) -> np.ndarray:
-    """Indices of the sets with >= 2 links that the generation checks: a set with a
-    vertex on one inside edge whose removal leaves >= 2 links is left out, since that
-    smaller set has a lower mobility (by 1 to 3) for every distribution."""
+def _checked_sets(cg: ContractedGraph, sets: VertexSets) -> np.ndarray:
+    """Indices of the sets the generation checks: all but those with a vertex on one
+    inside edge whose removal leaves >= 2 links (that smaller set has a lower
+    mobility, by 1 to 3, for every distribution)."""
     incidence = np.zeros((len(cg.edges), cg.order), dtype=np.int64)
     for k, (u, v) in enumerate(cg.edges):
         incidence[k, u] += 1
@@ -232,7 +252,7 @@ def _leafless_long_sets(cg: ContractedGraph, sets: VertexSets) -> np.ndarray:
     degree = sets.inside @ incidence  # (set, vertex): inside edges at the vertex
     is_link = np.array([c == "L" for c in cg.colours], dtype=np.int64)
     removable = (degree == 1) & (sets.links[:, None] - is_link[None, :] >= 2)
-    return np.nonzero((sets.links >= 2) & ~removable.any(axis=1))[0]
+    return np.nonzero(~removable.any(axis=1))[0]
 
 
 @dataclass
@@ -250,6 +270,7 @@ class _Skeletons:
     tail: np.ndarray
     inside: np.ndarray  # (graph, edge, set): 1 if the edge is inside the set
     base: np.ndarray  # (graph, set): 3|W_L| + 2|W_J| - 3
+    size: np.ndarray  # (graph, set): links in the set, at most 2
     need: np.ndarray  # (graph, edge, set): binaries the set's later edges lack for 2 each
 
     @classmethod
@@ -269,21 +290,23 @@ class _Skeletons:
             [[cg.colours[u] != cg.colours[v] for u, v in cg.edges] for cg in graphs], dtype=bool
         ).reshape(ng, ne)
         sets = [VertexSets.of(cg) for cg in graphs]
-        chosen = [_leafless_long_sets(cg, s) for cg, s in zip(graphs, sets, strict=True)]
+        chosen = [_checked_sets(cg, s) for cg, s in zip(graphs, sets, strict=True)]
         width = max(len(c) for c in chosen)
         inside = np.zeros((ng, ne, width), dtype=np.int8)
         base = np.full((ng, width), 4 * ne + 1, dtype=np.int8)  # padding: never low
+        size = np.full((ng, width), 2, dtype=np.int8)
         for c, (s, idx) in enumerate(zip(sets, chosen, strict=True)):
             inside[c, :, : len(idx)] = s.inside[idx].T
             base[c, : len(idx)] = s.base[idx]
+            size[c, : len(idx)] = np.minimum(s.links[idx], 2)
         # after edge k: 2 for each later inside edge, less their least counts (which
         # the other later edges' minima in `tail` do not cover)
         later = np.zeros((ng, ne, width), dtype=np.int16)
-        later[:, :-1] = np.cumsum((inside * (2 - minima[:, :, None]))[:, ::-1], axis=1)[
-            :, ::-1
-        ][:, 1:]
+        later[:, :-1] = np.cumsum((inside * (2 - minima[:, :, None]))[:, ::-1], axis=1)[:, ::-1][
+            :, 1:
+        ]
         need = later.astype(np.int8)
-        return cls(graphs, sets, minima, parallel, mixed, tail, inside, base, need)
+        return cls(graphs, sets, minima, parallel, mixed, tail, inside, base, size, need)
 
 
 def distributions_of(
@@ -295,20 +318,40 @@ def distributions_of(
         return []
     sk = _Skeletons.of(graphs)
     ne = sk.minima.shape[1]
-    found: list[list[np.ndarray]] = [[] for _ in graphs]
+    found: list[list[tuple[np.ndarray, np.ndarray]]] = [[] for _ in graphs]
 
-    def grow(rows: np.ndarray, graph: np.ndarray, left: np.ndarray, mobility: np.ndarray):
+    everyone = np.arange(len(graphs))
+    # depth first over chunks of rows (a stack, not recursion: a recursive closure
+    # would be a reference cycle holding the arrays until the cyclic collector runs)
+    stack = [
+        (
+            np.zeros((len(part), 0), dtype=np.int16),
+            part,
+            np.full(len(part), binaries, dtype=np.int16),
+            sk.base[part],
+            sk.size[part],
+        )
+        for lo in range(0, len(graphs), ROWS)
+        for part in [everyone[lo : lo + ROWS]]
+    ][::-1]
+    while stack:
+        rows, graph, left, mobility, size = stack.pop()
         k = rows.shape[1]
         if k == ne:
+            # a set of fewer than two links and low mobility: the exact test decides
+            unsure = np.asarray(((mobility < threshold) & (size < 2)).any(axis=1))
             for c in np.unique(graph).tolist():
-                found[c].append(rows[graph == c])
-            return
+                mine = graph == c
+                found[c].append((rows[mine], unsure[mine]))
+            continue
         low = sk.minima[graph, k]
         if k:
             previous = rows[:, k - 1]
             after = np.maximum(low, previous)
             # a link sits on a multiple joint once: one direct edge to it
-            after = np.where(sk.mixed[graph, k], np.maximum(after, np.minimum(previous + 1, 1)), after)
+            after = np.where(
+                sk.mixed[graph, k], np.maximum(after, np.minimum(previous + 1, 1)), after
+            )
             low = np.where(sk.parallel[graph, k], after, low)
         if k == ne - 1:
             low = np.maximum(low, left)
@@ -317,37 +360,39 @@ def distributions_of(
             high = left - sk.tail[graph, k + 1]
         rows, parent = _extend(rows, low, high)
         graph, left = graph[parent], left[parent] - rows[:, k]
-        drop = np.minimum(rows[:, k] - 2, 0).astype(np.int8)
-        mobility = mobility[parent] + drop[:, None] * sk.inside[graph, k]
+        count = rows[:, k]
+        inside = sk.inside[graph, k]
+        mobility = mobility[parent] + np.minimum(count - 2, 0).astype(np.int8)[:, None] * inside
+        grown = np.where(count <= 2, count, 0).astype(np.int8)[:, None] * inside
+        size = np.minimum(size[parent] + grown, 2)
         # the best the edges still to count can do: 2 binaries on each inside edge,
-        # out of what the other later edges leave beyond their own minima
+        # out of what the other later edges leave beyond their own minima; a set of
+        # fewer than two links may still take a longer path (tested at the end)
         spare = (left - sk.tail[graph, k + 1]).astype(np.int8)
         lack = np.maximum(sk.need[graph, k] - spare[:, None], 0)
-        good = (mobility - lack >= threshold).all(axis=1)
-        if not good.all():
-            rows, graph, left, mobility = rows[good], graph[good], left[good], mobility[good]
-        for lo in range(0, len(rows), ROWS):
+        bad = ((mobility - lack < threshold) & (size >= 2)).any(axis=1)
+        if bad.any():
+            good = ~bad
+            rows, graph, left = rows[good], graph[good], left[good]
+            mobility, size = mobility[good], size[good]
+        for lo in reversed(range(0, len(rows), ROWS)):
             part = slice(lo, lo + ROWS)
-            grow(rows[part], graph[part], left[part], mobility[part])
-
-    everyone = np.arange(len(graphs))
-    for lo in range(0, len(graphs), ROWS):
-        part = everyone[lo : lo + ROWS]
-        grow(
-            np.zeros((len(part), 0), dtype=np.int16),
-            part,
-            np.full(len(part), binaries, dtype=np.int16),
-            sk.base[part],
-        )
+            stack.append((rows[part], graph[part], left[part], mobility[part], size[part]))
     out = []
     for cg, sets, parts in zip(sk.graphs, sk.sets, found, strict=True):
-        rows = np.concatenate(parts) if parts else np.zeros((0, ne), dtype=np.int16)
-        if len(rows):
-            rest = np.nonzero(sets.links <= 1)[0]
-            if len(rest):
-                rows = rows[mobility_ok(sets, rows, threshold, rest)]
-            rows = rows[np.lexsort(rows.T[::-1])]
-            rows = rows[orbit_minima(rows, edge_automorphisms(cg), binaries)]
+        if not parts:
+            out.append((cg, np.zeros((0, ne), dtype=np.int16)))
+            continue
+        rows = np.concatenate([r for r, _ in parts])
+        unsure = np.concatenate([u for _, u in parts])
+        if unsure.any():
+            check = np.nonzero(unsure)[0]
+            short = np.nonzero(sets.links <= 1)[0]
+            keep = np.ones(len(rows), dtype=bool)
+            keep[check] = mobility_ok(sets, rows[check], threshold, short)
+            rows = rows[keep]
+        rows = rows[np.lexsort(rows.T[::-1])]
+        rows = rows[orbit_minima(rows, edge_automorphisms(cg), binaries)]
         out.append((cg, rows))
     return out
 

@@ -94,6 +94,10 @@ def expand_rows(cg: ContractedGraph, rows: np.ndarray, binaries: int) -> Expande
             if x in joint_of:
                 sizes[joint_of[x]] += 1
     R = len(rows)
+    if R == 0:
+        return ExpandedChains(
+            nb + binaries, np.zeros((0, 0, 2), dtype=np.int64), np.zeros((0, 0), np.int64), ()
+        )
     start = np.array([node(u) for u, _ in cg.edges], dtype=np.int64)
     end = np.array([node(v) for _, v in cg.edges], dtype=np.int64)
     b = rows.astype(np.int64)
@@ -103,7 +107,9 @@ def expand_rows(cg: ContractedGraph, rows: np.ndarray, binaries: int) -> Expande
     seg = np.repeat(np.tile(np.arange(ne), R), length.ravel())
     row = np.repeat(np.arange(R), width)
     where = row * ne + seg
-    local = np.arange(R * width) - row * width - (np.cumsum(length, axis=1) - length).ravel()[where]
+    local = (
+        np.arange(R * width) - row * width - (np.cumsum(length, axis=1) - length).ravel()[where]
+    )
     count = b.ravel()[where]
     value = first.ravel()[where] + local - 1
     value = np.where(local == 0, start[seg], value)
@@ -174,7 +180,9 @@ def _labelled(
     on = where[rows, members]
     bounds = np.cumsum([0, *sizes]).tolist()
     # nauty's certificate: the canonical adjacency, one 64-bit word per vertex
-    owner = np.concatenate([np.repeat(np.arange(n_simple), 2), np.repeat(n_simple + np.arange(len(sizes)), sizes)])
+    owner = np.concatenate(
+        [np.repeat(np.arange(n_simple), 2), np.repeat(n_simple + np.arange(len(sizes)), sizes)]
+    )
     link_pos = np.concatenate([two.reshape(R, -1), on], axis=1)
     joint_pos = where[:, n + owner]
     adjacency = np.zeros((R, nv, 64), dtype=bool)

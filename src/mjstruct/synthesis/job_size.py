@@ -30,8 +30,8 @@ CHAIN_LIMIT = 1_000_000
 # counts of longer runs (docs/synthesis.md), beyond the shipped catalogs:
 # (F, multiple joints, fractionated included) -> {links: chains}
 _LONGER_RUNS: dict[tuple[int, bool, bool], dict[int, int]] = {
-    (1, False, False): {12: 6856},
-    (1, False, True): {12: 6856},  # F = 1 chains are never fractionated
+    (1, False, False): {12: 6856, 14: 318162},
+    (1, False, True): {12: 6856, 14: 318162},  # F = 1 chains are never fractionated
     (1, True, False): {12: 248203},
     (1, True, True): {12: 248203},
     (2, True, False): {11: 13065},

@@ -12,9 +12,11 @@ Examples
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any, TextIO
 
 
@@ -23,6 +25,24 @@ def core_count() -> int:
     if hasattr(os, "sched_getaffinity"):
         return max(len(os.sched_getaffinity(0)), 1)
     return os.cpu_count() or 1
+
+
+@contextmanager
+def collection_paused() -> Iterator[None]:
+    """Pause the cyclic garbage collector inside the block.
+
+    An enumeration creates hundreds of thousands of small lists and tuples and keeps
+    many of them: every few hundred allocations the collector would walk what is kept
+    (40% of the time of labelling chains).  They hold no reference cycles, so reference
+    counting frees them all the same.
+    """
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 def run_tasks(
