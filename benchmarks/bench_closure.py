@@ -20,7 +20,9 @@ example (``kinematic_analysis(mechanism, frames=N)``: planning, closure, evaluat
 branches, result and checks) and its parts are raced against the same hand-written
 Newton.
 
-Run: ``python benchmarks/bench_closure.py [--frames N] [--repeat N]``.
+Run: ``python benchmarks/bench_closure.py [--frames N] [--repeat N] [--cpu]
+[--only-default]`` (``--cpu``: CPU time of the process, which the other jobs of a
+loaded machine disturb less than wall time).
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ import argparse
 import cmath
 import json
 import math
+import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -139,18 +143,37 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--frames", type=int, default=3600)
     ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument(
+        "--cpu",
+        action="store_true",
+        help="CPU time of the process (time.process_time) instead of wall time",
+    )
+    ap.add_argument(
+        "--only-default", action="store_true", help="only the race of the default call"
+    )
     args = ap.parse_args()
+    clock = time.process_time if args.cpu else time.perf_counter
+    print(f"clock: {'CPU time of the process' if args.cpu else 'wall time'}")
     model = KinematicModel.build(read_mechanism(example_path("class-iv-seed003")))
     mech = ClassIV()
-    compare("full turn", model, mech, model.sweep(args.frames), args.repeat)
-    default_call(model, mech, args.frames, args.repeat)
-    # a rocking input: the path goes from the reference back to -1 rad, turns, and
-    # sweeps to +1 rad (the continuation's stations meet one turn of the path)
-    rocking = model.q_ref + np.linspace(-1.0, 1.0, args.frames)[:, None]
-    compare("rocking ±1 rad", model, mech, rocking, args.repeat)
+    if not args.only_default:
+        compare("full turn", model, mech, model.sweep(args.frames), args.repeat, clock)
+    default_call(model, mech, args.frames, args.repeat, clock)
+    if not args.only_default:
+        # a rocking input: the path goes from the reference back to -1 rad, turns, and
+        # sweeps to +1 rad (the continuation's stations meet one turn of the path)
+        rocking = model.q_ref + np.linspace(-1.0, 1.0, args.frames)[:, None]
+        compare("rocking ±1 rad", model, mech, rocking, args.repeat, clock)
 
 
-def compare(label: str, model: KinematicModel, mech: ClassIV, q: Arr, repeat: int) -> None:
+def compare(
+    label: str,
+    model: KinematicModel,
+    mech: ClassIV,
+    q: Arr,
+    repeat: int,
+    clock: Callable[[], float] = time.perf_counter,
+) -> None:
     """Race the plug-in's closure against the hand-written one on frames ``q``; print."""
     qv = q[:, 0] - model.q_ref[0]
     calls = [0]
@@ -173,6 +196,7 @@ def compare(label: str, model: KinematicModel, mech: ClassIV, q: Arr, repeat: in
             lambda: hand_written(mech, qv),
         ],
         repeat,
+        clock,
     )
     print(f"class-IV closure, {label}, {q.shape[0]} frames (median of {repeat}, raced)")
     print(f"  hand-written batched Newton (ψ, ψ')      {t_hand * 1e3:8.2f} ms   1.00x")
@@ -190,7 +214,13 @@ def compare(label: str, model: KinematicModel, mech: ClassIV, q: Arr, repeat: in
     )
 
 
-def default_call(model: KinematicModel, mech: ClassIV, frames: int, repeat: int) -> None:
+def default_call(
+    model: KinematicModel,
+    mech: ClassIV,
+    frames: int,
+    repeat: int,
+    clock: Callable[[], float] = time.perf_counter,
+) -> None:
     """Race the default kinematics call on the class-IV example (a full turn in ``frames``
     frames, as a user calls it) and its parts against the hand-written Newton; print."""
     mechanism = model.mechanism
@@ -205,6 +235,7 @@ def default_call(model: KinematicModel, mech: ClassIV, frames: int, repeat: int)
             lambda: kinematic_analysis(mechanism, frames=frames),
         ],
         repeat,
+        clock,
     )
     print(f"class-IV example, default call, {frames} frames (median of {repeat}, raced)")
     rows = (

@@ -164,7 +164,7 @@ def run_checks(r: KinematicsResult, motion: Motion, full: bool = False) -> None:
     residual = closure_residual(r, motion)
     if residual is not None:
         r.checks["closure_residual"] = residual
-    r.check_on_demand(lambda: value_checks(r))
+    r.check_on_demand(value_checks)
 
 
 def closure_residual(r: KinematicsResult, motion: Motion) -> dict[str, Any] | None:

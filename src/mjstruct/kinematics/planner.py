@@ -43,6 +43,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from functools import cached_property
 from heapq import heappop
 
 import numpy as np
@@ -78,9 +79,9 @@ class Plan:
     source: str = "propagation"
     notes: tuple[str, ...] = field(default=())
 
-    @property
+    @cached_property
     def equations(self) -> int:
-        """Closure equations of the plan."""
+        """Closure equations of the plan (counted once: every evaluation asks)."""
         return sum(s.equations for s in self.steps)
 
     def complexity(self) -> dict[str, int]:

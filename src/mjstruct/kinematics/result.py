@@ -74,7 +74,9 @@ class KinematicsResult:
     #: joint, point and link is given where its own values exist (finite), the items
     #: of the groups that do not assemble are null; default: none
     partial: BoolArray | None = None
-    _on_demand: Callable[[], dict[str, Any]] | None = field(default=None, repr=False)
+    _on_demand: Callable[[KinematicsResult], dict[str, Any]] | None = field(
+        default=None, repr=False
+    )
 
     @property
     def checks(self) -> dict[str, Any]:
@@ -82,18 +84,21 @@ class KinematicsResult:
         if self._on_demand is not None:
             compute, self._on_demand = self._on_demand, None
             # the deferred checks come first, in the order the report gives them
-            self._checks = {**compute(), **self._checks}
+            self._checks = {**compute(self), **self._checks}
         return self._checks
 
-    def check_on_demand(self, compute: Callable[[], dict[str, Any]]) -> None:
+    def check_on_demand(self, compute: Callable[[KinematicsResult], dict[str, Any]]) -> None:
         """Defer checks that word no warning until :attr:`checks` is read.
 
-        ``compute`` returns them by name; a result passed over (positions read, checks
-        never looked at) does not pay for them.
+        ``compute(result)`` returns them by name; a result passed over (positions read,
+        checks never looked at) does not pay for them.  It is given the result when
+        called rather than holding it (a function holding its result would make a
+        reference cycle, and a result of a large sweep would stay in memory until the
+        cyclic garbage collector runs).
         """
         if self._on_demand is not None:
             earlier = self._on_demand
-            self._on_demand = lambda: {**earlier(), **compute()}
+            self._on_demand = lambda r: {**earlier(r), **compute(r)}
         else:
             self._on_demand = compute
 
