@@ -175,6 +175,7 @@ def evaluate(
         t1=zeros if t1 is None else t1,
         t2=zeros if t2 is None else t2,
         modes=K if K is not None else {},
+        first_memo=model.first_links(None if only is None else tuple(only), upto),
     )
     # frames that do not assemble or sit at a singular position get NaN or inf, which
     # their validity reports: numpy's warnings are silenced once for all steps

@@ -147,6 +147,18 @@ class KinematicModel:
                         carried_by.setdefault(j, k)
         return tuple(tuple(sorted(d)) for d in out)
 
+    def first_links(self, only: tuple[int, ...] | None, upto: int | None) -> dict[str, str]:
+        """Joint -> the first link placed that carries it, for evaluations of the steps
+        ``only`` (or the first ``upto``, or all), as found so far.
+
+        The placement order of a set of steps is the plan's, so what one evaluation
+        finds holds for the next (an evaluation found each anew: a tenth of the cost of
+        evaluating a few stations).  Filled by the evaluations themselves.
+        """
+        memo: dict[tuple[tuple[int, ...] | None, int | None], dict[str, str]]
+        memo = self.__dict__.setdefault("_first_links", {})
+        return memo.setdefault((only, upto), {})
+
     @property
     def drivers(self) -> tuple[str, ...]:
         """The driver joints (generalised coordinates), in order."""

@@ -118,9 +118,12 @@ class Run:
     #: joint -> its centre's jet carried by its first link (filled by :meth:`centre`;
     #: a link's pose does not change once placed)
     carried: dict[str, Jet] = field(default_factory=dict)
+    #: the first links found by earlier evaluations of the same steps (the placement
+    #: order is the plan's: they are the same), given to :attr:`first` to start from
+    first_memo: dict[str, str] | None = None
 
     def __post_init__(self) -> None:
-        self.first = FirstLinks(self.mechanism, self.poses)
+        self.first = FirstLinks(self.mechanism, self.poses, self.first_memo)
 
     @property
     def frames(self) -> int:
@@ -159,9 +162,11 @@ class FirstLinks(dict[str, str]):
     evaluation, and branch refinement evaluates small parts of a plan many times.
     """
 
-    def __init__(self, mechanism: Mechanism, poses: dict[str, Pose]) -> None:
-        super().__init__()
-        self._mechanism, self._poses = mechanism, poses
+    def __init__(
+        self, mechanism: Mechanism, poses: dict[str, Pose], memo: dict[str, str] | None = None
+    ) -> None:
+        super().__init__(memo or ())
+        self._mechanism, self._poses, self._memo = mechanism, poses, memo
         #: link -> its place in the placement order (kept by :meth:`Run.place`)
         self.order: dict[str, int] = {}
 
@@ -174,6 +179,8 @@ class FirstLinks(dict[str, str]):
             order = {x: k for k, x in enumerate(self._poses)}
         link = min(placed, key=order.__getitem__)
         self[joint] = link
+        if self._memo is not None:
+            self._memo[joint] = link
         return link
 
 
