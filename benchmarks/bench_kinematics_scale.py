@@ -12,7 +12,7 @@ default (not refused by the memory guard) within 4 GiB of peak memory.  With
 rank and determinant from sparse entries), against the same goals.
 
 Run: ``python benchmarks/bench_kinematics_scale.py [--frames N] [--sizes 4,18,...]
-[--rounds N] [--full-checks] [--plot docs/img/kin-scaling.png]``; ``--plot`` draws time
+[--rounds N] [--full-checks] [--cpu] [--plot docs/img/kin-scaling.png]``; ``--plot`` draws time
 and peak memory against the number of links on log-log axes.
 """
 
@@ -29,7 +29,9 @@ import time
 SIZES = (4, 10, 18, 34, 66, 130, 258, 514, 1000, 2000, 4000)
 
 
-def _one(n: int, frames: int, repeat: int, level: bool | str = True) -> dict[str, float]:
+def _one(
+    n: int, frames: int, repeat: int, level: bool | str = True, cpu: bool = False
+) -> dict[str, float]:
     """Measure one size (run in a child process)."""
     from mjstruct.kinematics.memory import sweep_bytes
     from mjstruct.kinematics.model import KinematicModel
@@ -40,10 +42,11 @@ def _one(n: int, frames: int, repeat: int, level: bool | str = True) -> dict[str
 
     def timed(fn) -> float:  # type: ignore[no-untyped-def]
         ts = []
+        clock = time.process_time if cpu else time.perf_counter
         for _ in range(repeat):
-            t0 = time.perf_counter()
+            t0 = clock()
             fn()
-            ts.append(time.perf_counter() - t0)
+            ts.append(clock() - t0)
         return sorted(ts)[len(ts) // 2]
 
     out = {"links": float(len(m.links))}
@@ -72,17 +75,20 @@ def main() -> None:
         action="store_true",
         help="the checks column with the full Jacobian check (checks='full')",
     )
+    ap.add_argument(
+        "--cpu", action="store_true", help="CPU time of each size's process, not wall time"
+    )
     ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args()
     level: bool | str = "full" if args.full_checks else True
     label = "full checks" if args.full_checks else "default checks"
     if args.child:
-        print(json.dumps(_one(args.child, args.frames, args.repeat, level)))
+        print(json.dumps(_one(args.child, args.frames, args.repeat, level, args.cpu)))
         return
     print(
         f"k four-bars sharing one crank, {args.frames} frames, median of {args.repeat} "
         f"in each of {args.rounds} round(s) (each size in its own process, sizes in turn); "
-        f"'checks' = {label}"
+        f"'checks' = {label}; {'CPU' if args.cpu else 'wall'} time"
     )
     print(
         f"{'links':>6} {'plan ms':>9} {'no checks ms':>13} {'checks ms':>10} "
@@ -99,6 +105,7 @@ def main() -> None:
         for n in sizes:
             cmd = [sys.executable, __file__, "--child", str(n), "--frames", str(args.frames)]
             cmd += ["--repeat", str(args.repeat)] + (["--full-checks"] if args.full_checks else [])
+            cmd += ["--cpu"] if args.cpu else []
             done = subprocess.run(cmd, capture_output=True, text=True)
             if done.returncode:
                 sys.exit(f"size {n} failed:\n{done.stderr}")
