@@ -104,3 +104,39 @@ def test_four_pose_dyads_keep_their_length():
     for C, mm in dyads:
         radius = [abs(P + cmath.exp(1j * t) * mm - C) for P, t in poses]
         assert np.ptp(radius) < 1e-9
+
+
+@pytest.mark.parametrize("name", ["function-log10", "motion-five-poses"])
+def test_shipped_four_bar_tasks_from_the_command(tmp_path, capsys, name):
+    # the per-target errors the command reports, recomputed from the written file by
+    # the closed form at the driver values it reports
+    import itertools
+    import json
+
+    from mjstruct.cli.main import main
+    from project_paths import ROOT
+
+    task = json.loads((ROOT / "catalogs" / "tasks" / f"{name}.json").read_text())
+    task["mechanism"] = str(ROOT / "catalogs" / "examples" / "four-bar.json")
+    task["solver"] = FAST
+    path = tmp_path / "task.json"
+    path.write_text(json.dumps(task))
+    out = tmp_path / "design.json"
+    assert main(["synthesize", str(path), "-o", str(out), "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["feasible"] and r["task"] == task["task"] and r["output"] == str(out)
+    d = mechanism_to_dict(read_mechanism(out))
+    timing = d["synthesis"]["timing"]
+    assert len(timing) == len(task["targets"]) == len(r["errors"])
+    start = [complex(*j["at"]) for j in mechanism_to_dict(_example()[0])["joints"]]
+    size = max(abs(a - b) for a, b in itertools.combinations(start, 2))
+    for q, goal, err in zip(timing, task["targets"], r["errors"], strict=True):
+        if task["task"] == "function":
+            off = r["details"]["angle_offset"]
+            want = abs(_wrap(link_angle(d, q, "3") - goal[1] - off))
+        else:
+            dp = abs(coupler_point(d, q) - complex(goal[0], goal[1]))
+            want = math.hypot(dp, size * _wrap(link_angle(d, q, "2") - goal[2]))
+        assert abs(want - err) < 1e-9
+    # close fits even from this small search (rad; motion: the coupler's size ~1)
+    assert r["objective"] < (1e-3 if task["task"] == "function" else 0.05)

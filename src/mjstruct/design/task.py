@@ -75,7 +75,6 @@ KNOWN_KEYS = frozenset(
         "motion",
         "full_turn",
         "transmission_deg",
-        "min_singular",
         "solver",
     }
 )
@@ -115,8 +114,6 @@ class Task:
     full_turn : the driver must turn fully (untimed targets always need it).
     transmission_deg : the smallest angle allowed at the solved joint of every dyad
         over the driver range (for a four-bar the transmission angle), or None.
-    min_singular : the smallest singular value allowed of the driver-fixed constraint
-        Jacobian (in units of the mechanism's size) over the range, or None.
     solver : population, generations, restarts, samples and tol of the search.
     source : where the task came from (a file name, or ``"task"``).
     """
@@ -138,7 +135,6 @@ class Task:
     motion: str | None = None
     full_turn: bool = False
     transmission_deg: float | None = None
-    min_singular: float | None = None
     solver: Mapping[str, int | float] = field(default_factory=lambda: dict(SOLVER_DEFAULTS))
     source: str = "task"
 
@@ -268,7 +264,6 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
             "which a double-rocker's input cannot make"
         )
     transmission = _optional_number(data, "transmission_deg", 0.0, 90.0, open_high=True)
-    min_singular = _optional_number(data, "min_singular", 0.0, math.inf)
     task = Task(
         kind,
         data,
@@ -285,7 +280,6 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
         motion,
         full_turn,
         transmission,
-        min_singular,
         _solver(data),
         source,
     )
