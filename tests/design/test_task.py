@@ -45,6 +45,7 @@ BAD = [
     ({"solver": {"population": 0}}, r"^solver\.population: must be in \[4, 100000\]"),
     ({"colour": "red"}, r"^colour: unknown task key"),
     ({"min_singular": 0.1}, r"^min_singular: unknown task key"),
+    ({"name": 3}, r"^name: expected a string, got 3"),
     ({"mechanism": {"joints": [{"id": "a", "links": [0]}]}}, r"^mechanism\.joints\[0\]"),
 ]
 
@@ -135,6 +136,7 @@ def test_command_writes_the_design_and_reports(tmp_path, capsys):
             _task(
                 timing=timing,
                 fixed=["O1", "O2"],
+                name="pick and place",
                 solver={"population": 5, "generations": 10, "restarts": 1},
             )
         )
@@ -149,6 +151,7 @@ def test_command_writes_the_design_and_reports(tmp_path, capsys):
     assert d["seed"] == 3 and d["feasible"] is True and len(d["errors"]) == 3
     m = read_mechanism(out)
     assert m.extra["synthesis"]["point"] == "M" and m.extra["synthesis"]["timing"] == timing
+    assert m.name == "pick and place"  # the task's name names the design
     assert chart.read_text().startswith("<?xml")
     assert main(["synthesize", str(task), "-o", str(tmp_path / "b.json"), "--seed", "3"]) == 0
     text = capsys.readouterr().out
@@ -165,3 +168,31 @@ def test_command_runs_the_four_bar_matrix_synthesis(tmp_path, capsys):
     assert d["task"] == "fourbar-ms" and d["feasible"] is True
     assert abs(d["details"]["swing_deg"] - 141.06) < 1e-6
     assert read_mechanism(out).extra["synthesis"]["task"] == "fourbar-ms"
+
+
+@pytest.mark.parametrize(
+    ("args", "flag"),
+    [
+        (["--workers", "0"], "--workers"),
+        (["--seed", "-1"], "--seed"),
+        (["--mj"], "--mj"),
+        (["--history", "h.txt"], "--history"),
+        (["--targets-chart", "t.csv"], "--targets-chart"),
+    ],
+)
+def test_command_refuses_bad_options(tmp_path, capsys, args, flag):
+    task = tmp_path / "task.json"
+    task.write_text(json.dumps(_task()))
+    out = tmp_path / "out.json"
+    assert main(["synthesize", str(task), "-o", str(out), *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"mjstruct synthesize: {flag}") and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == [task]
+
+
+def test_command_refuses_an_output_that_is_not_a_mechanism_file(tmp_path, capsys):
+    task = tmp_path / "task.json"
+    task.write_text(json.dumps(_task()))
+    assert main(["synthesize", str(task), "-o", str(tmp_path / "out.png")]) == 2
+    assert capsys.readouterr().err.startswith("mjstruct synthesize: -o")
+    assert list(tmp_path.iterdir()) == [task]

@@ -228,6 +228,8 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
     unknown = sorted(str(k) for k in data if k not in KNOWN_KEYS)
     if unknown:
         raise MechanismError(f"{unknown[0]}: unknown task key (see docs/synthesis-design.md)")
+    if "name" in data and not isinstance(data["name"], str):
+        raise MechanismError(f"name: expected a string, got {_shown(data['name'])}")
     m = _mechanism(data, base)
     if m.frame is None:
         raise MechanismError("mechanism.frame: synthesis needs a frame link")

@@ -469,6 +469,7 @@ def with_synthesis(m: Mechanism, task: Task, timing: list[float]) -> Mechanism:
     entry["targets"] = [[float(v) for v in row] for row in task.targets]
     entry["timing"] = timing
     d[SYNTHESIS_KEY] = entry
-    if task.mechanism is not None and task.mechanism.name:
-        d["name"] = task.mechanism.name
+    name = task.data.get("name") or (task.mechanism.name if task.mechanism else None)
+    if name:
+        d["name"] = name
     return mechanism_from_dict(d)
