@@ -27,7 +27,8 @@ Times are the CPU time of this process (``time.process_time``: both run in one
 thread; other jobs on the shared machine disturb it less than the wall clock).
 
 Run: ``python benchmarks/bench_synthesis.py [--seeds 5] [--problems line6,timed5]
-[--batch-only]``.  Prints per problem and seed, then medians and the ratios.
+[--batch-only] [--atlas] [--stages timed5]``.  Prints per problem and seed, then
+medians and the ratios (``--stages P``: only where mjstruct's time goes on P).
 """
 
 from __future__ import annotations
@@ -143,9 +144,25 @@ def baseline_objective(x: np.ndarray, targets: np.ndarray, timing: list[float] |
     return f + PENALTY * v
 
 
-def run_baseline(name: str, seed: int) -> tuple[float, float, bool]:
-    """Plain differential evolution (scipy's defaults): (sum of squared errors at its
-    own crank angles, CPU seconds, whether it is a crank-rocker with them in order)."""
+def baseline_score(name: str, x: np.ndarray) -> tuple[float, bool]:
+    """The sum of squared errors of the closed-form four-bar ``x`` at its own crank
+    angles, and whether it is a crank-rocker with those angles in order."""
+    p = PROBLEMS[name]
+    targets = np.array([complex(*t) for t in p["targets"]])
+    theta2 = np.asarray(p["timing"]) if p["timing"] is not None else x[9:]
+    feasible = _grashof_violation(x) <= 1e-9 and (
+        p["timing"] is not None or _order_violation(theta2) <= 1e-9
+    )
+    err = float((np.abs(closed_form(x, theta2) - targets) ** 2).sum())
+    return (err if math.isfinite(err) else math.inf), bool(feasible)
+
+
+def baseline(
+    name: str, seed: int, record: list[tuple[float, float, float]] | None = None
+) -> tuple[np.ndarray, float]:
+    """Plain differential evolution (scipy's defaults) on the closed form: its answer
+    and its CPU seconds; ``record`` receives (CPU seconds, wall seconds, sum of squared
+    errors of the best member, inf while it is infeasible) after each generation."""
     from scipy.optimize import differential_evolution
 
     p = PROBLEMS[name]
@@ -155,16 +172,29 @@ def run_baseline(name: str, seed: int) -> tuple[float, float, bool]:
     bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
     if p["timing"] is None:
         bounds += [(0.0, 2 * math.pi)] * len(targets)
-    t0 = time.process_time()
-    r = differential_evolution(baseline_objective, bounds, args=(targets, p["timing"]), seed=seed)
-    seconds = time.process_time() - t0
-    x = r.x
-    theta2 = np.asarray(p["timing"]) if p["timing"] is not None else x[9:]
-    feasible = _grashof_violation(x) <= 1e-9 and (
-        p["timing"] is not None or _order_violation(theta2) <= 1e-9
+    t0, w0 = time.process_time(), time.perf_counter()
+
+    def note(xk: np.ndarray, convergence: float = 0.0) -> None:
+        assert record is not None
+        f, ok = baseline_score(name, xk)
+        record.append((time.process_time() - t0, time.perf_counter() - w0, f if ok else math.inf))
+
+    r = differential_evolution(
+        baseline_objective,
+        bounds,
+        args=(targets, p["timing"]),
+        seed=seed,
+        callback=None if record is None else note,
     )
-    err = float((np.abs(closed_form(x, theta2) - targets) ** 2).sum())
-    return (err if math.isfinite(err) else math.inf), seconds, bool(feasible)
+    return np.asarray(r.x, float), time.process_time() - t0
+
+
+def run_baseline(name: str, seed: int) -> tuple[float, float, bool]:
+    """Plain differential evolution (scipy's defaults): (sum of squared errors at its
+    own crank angles, CPU seconds, whether it is a crank-rocker with them in order)."""
+    x, seconds = baseline(name, seed)
+    err, feasible = baseline_score(name, x)
+    return err, seconds, feasible
 
 
 # -- mjstruct ---------------------------------------------------------------------------
@@ -298,6 +328,49 @@ def atlas_case(name: str = "curve18", links: int = 6, workers: int = 2, seed: in
         print(f"  best {n}: f = {best[n]:.4g}")
 
 
+def stage_times(name: str, seeds: int) -> None:
+    """Where mjstruct's CPU time goes on one problem: the global stage (scipy's
+    differential evolution, of which the batched evaluations), the local stage
+    (scipy's least squares), the screened first population and the verdicts."""
+    import collections
+
+    import scipy.optimize as so
+
+    from mjstruct.design import search
+    from mjstruct.design.track import TrackProblem
+
+    spent: collections.Counter[str] = collections.Counter()
+    calls: collections.Counter[str] = collections.Counter()
+
+    def timed(owner: Any, attr: str, key: str) -> None:
+        inner = getattr(owner, attr)
+
+        def wrapper(*a: Any, **k: Any) -> Any:
+            t0 = time.process_time()
+            try:
+                return inner(*a, **k)
+            finally:
+                spent[key] += time.process_time() - t0
+                calls[key] += 1
+
+        setattr(owner, attr, wrapper)
+
+    timed(so, "differential_evolution", "global stage (DE, all)")
+    timed(TrackProblem, "assess", "  batched evaluations (all stages)")
+    timed(search, "screened_start", "first population (screen)")
+    timed(so, "least_squares", "local stage (least squares)")
+    timed(TrackProblem, "finish", "verdicts (kinematics sweep)")
+    total = 0.0
+    for seed in range(seeds):
+        f, t = run_mjstruct(name, seed)
+        total += t
+        print(f"{name} seed {seed}: f = {f:.4g} in {t:.2f} s CPU")
+    print(f"{name}: CPU seconds per run (mean over {seeds} seeds), calls per run")
+    for key in spent:
+        print(f"  {key:36s} {spent[key] / seeds:6.3f} s  {calls[key] / seeds:7.1f}")
+    print(f"  {'whole run':36s} {total / seeds:6.3f} s")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seeds", type=int, default=5)
@@ -305,7 +378,11 @@ def main() -> None:
     ap.add_argument("--batch-only", action="store_true")
     ap.add_argument("--no-baseline", action="store_true")
     ap.add_argument("--atlas", action="store_true", help="only the six-bar atlas case")
+    ap.add_argument("--stages", metavar="PROBLEM", help="only: where mjstruct's time goes")
     args = ap.parse_args()
+    if args.stages:
+        stage_times(args.stages, args.seeds)
+        return
     batch_ratio()
     if args.batch_only:
         return

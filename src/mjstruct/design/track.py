@@ -67,6 +67,11 @@ from mjstruct.typing import ComplexArray, FloatArray
 TWO_PI = 2 * math.pi
 #: central-difference step of the geometry columns, relative to the size
 FD_STEP = 1e-6
+#: how far inside each margin the local stage's penalties start.  The penalties are
+#: exterior (zero where met): a least-squares optimum against a constraint sits just
+#: outside it, which the verdict refuses; and the range is screened at samples, so a
+#: dyad's sine may dip between them below what the samples show
+LOCAL_INSET = {"assembly": 1e-2, "lengths": 1e-4, "motion": 1e-4}
 
 
 def wrap(a: Any) -> Any:
@@ -323,7 +328,11 @@ class TrackProblem(FitProblem):
             None if zj is None else [j[:, :T] for j in zj],
             None if aj is None else [j[:, :T] for j in aj],
         )
-        margins = self._margins(ev, (len(Z), S), pop) if with_range else {}
+        margins = {}
+        if with_range:  # the penalties start inside the feasible side (see LOCAL_INSET)
+            margins = {
+                k: v - LOCAL_INSET[k] for k, v in self._margins(ev, (len(Z), S), pop).items()
+            }
         return np.hstack(parts), margins, jets
 
     def _rows(self, Z: FloatArray, fit: FloatArray, margins: dict[str, FloatArray]) -> FloatArray:

@@ -36,6 +36,7 @@ from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 
@@ -71,8 +72,11 @@ def draw_history(result: DesignResult, fig: Figure | None = None) -> Figure:
     return fig
 
 
-def draw_targets(m: Mechanism, fig: Figure | None = None, frames: int = 360) -> Figure:
-    """The design ``m`` (a file written by synthesis) against its targets."""
+def draw_targets(
+    m: Mechanism, fig: Figure | None = None, frames: int = 360, ax: Axes | None = None
+) -> Figure:
+    """The design ``m`` (a file written by synthesis) against its targets (into ``ax``,
+    a panel of a larger figure, when given)."""
     import matplotlib.pyplot as plt
     import numpy as np
 
@@ -85,9 +89,13 @@ def draw_targets(m: Mechanism, fig: Figure | None = None, frames: int = 360) -> 
     model = KinematicModel.build(m)
     motion = model.motion(model.sweep(frames), order=0)
     targets = np.array(entry["targets"], float)
-    if fig is None:
-        fig = plt.figure(figsize=(6.4, 5.2))
-    ax = fig.add_subplot(1, 1, 1)
+    if ax is not None:
+        fig = ax.figure  # type: ignore[assignment]
+    else:
+        if fig is None:
+            fig = plt.figure(figsize=(6.4, 5.2))
+        ax = fig.add_subplot(1, 1, 1)
+    assert fig is not None
     if entry.get("task") == "function":
         link = entry["link"]
         ax.plot(motion.q[:, 0], np.unwrap(motion.angle(link)[0]), color="tab:blue",
@@ -133,7 +141,8 @@ def draw_targets(m: Mechanism, fig: Figure | None = None, frames: int = 360) -> 
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     ax.set_title(f"{m.name or 'design'}: {entry.get('task', '')} synthesis, targets and motion")
-    fig.tight_layout()
+    if len(fig.axes) == 1:
+        fig.tight_layout()
     return fig
 
 
