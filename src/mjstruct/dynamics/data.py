@@ -38,6 +38,7 @@ import numpy.typing as npt
 
 from mjstruct.dynamics.expressions import parse_expression, reserved_names, switch_functions
 from mjstruct.errors import MechanismError
+from mjstruct.kinematics.geometry import diameter
 from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
@@ -49,6 +50,16 @@ FloatArray = npt.NDArray[np.float64]
 
 #: the file keys this module reads
 KEYS = ("inertia", "gravity", "parameters", "loads", "energy_change")
+
+#: the largest characteristic load, inertia or kinetic energy a run may start from: a
+#: double reaches 1.8e308, the rest is the margin for sums over the links, analogs near
+#: singular positions and the conditioning of the link equations
+MAGNITUDE_LIMIT = 1e250
+
+#: farthest a centre of mass or a load's point may lie from its link's joints, in
+#: mechanism sizes: the condition number of the link equations grows with the square
+#: of this lever (about 4e12 at 1e6; at 1e15 no digit of the joint loads is left)
+MAX_LEVER = 1e6
 
 
 @dataclass(frozen=True)
@@ -71,6 +82,11 @@ class Load:
     at : the point of application in the reference configuration (forces).
     exprs : the sympy expression of each component (two for a force, one for a couple).
     where : the field that defined it (``"loads[3]"``), for messages.
+    functions : the components compiled to numpy functions of ``q``, ``qdot`` and the
+        ``arguments`` (the parameters the load uses, in order).
+    bound : the largest magnitude a component may take (:data:`MAGNITUDE_LIMIT`, for a
+        force divided by the reach of its point): beyond it the loads' work and the
+        reactions would overflow a double.
     """
 
     link: str
@@ -80,6 +96,7 @@ class Load:
     where: str
     functions: tuple[Callable[..., Any], ...]
     arguments: tuple[str, ...]
+    bound: float = MAGNITUDE_LIMIT
 
     def evaluate(
         self, q: npt.ArrayLike, qdot: npt.ArrayLike, parameters: Mapping[str, float]
@@ -91,7 +108,15 @@ class Load:
         vals = []
         with np.errstate(all="ignore"):
             for f in self.functions:
-                v = np.broadcast_to(np.asarray(f(qa, qd, *args), float), qa.shape)
+                try:
+                    raw = np.asarray(f(qa, qd, *args))
+                    if np.iscomplexobj(raw):  # a negative number to a fractional power
+                        raw = np.where(raw.imag == 0, raw.real, np.nan)
+                    v = np.broadcast_to(raw.astype(float), qa.shape)
+                except (ArithmeticError, ValueError, TypeError):
+                    # an integer too large for a double, a domain error of the math
+                    # module: no value here (named below like any non-finite value)
+                    v = np.full(qa.shape, np.nan)
                 vals.append(v)
         zero = np.zeros(qa.shape)
         out = np.stack([vals[0], vals[1], zero] if self.kind == "force" else [zero, zero, vals[0]])
@@ -99,6 +124,15 @@ class Load:
             bad = np.argmax(~np.isfinite(out).all(axis=0)) if qa.ndim else 0
             qb = float(qa.reshape(-1)[bad]) if qa.size else float("nan")
             raise MechanismError(f"{self.where}: the load is not finite at q = {qb:.9g}")
+        size = np.abs(out).max(axis=0) if out.size else out
+        if (size > self.bound).any():
+            bad = np.argmax(size > self.bound) if qa.ndim else 0
+            qb = float(qa.reshape(-1)[bad])
+            raise MechanismError(
+                f"{self.where}: the load reaches {float(size.reshape(-1)[bad]):.3g} at q = "
+                f"{qb:.9g}, more than {self.bound:.3g} (its work and the joint loads would "
+                "overflow a double)"
+            )
         return out
 
     @property
@@ -155,6 +189,13 @@ class DynamicsData:
     unknown : the parameter that steady motion fixes, or ``None``.
     loads : the active loads.
     energy_change : the cycle work of all loads that steady motion must give.
+    size : the mechanism's size (largest distance between two joint centres).
+    inertia_scale : Σ (m R² + J) over the links, R the reach of a link's centre of
+        mass (the size plus its distance from the link's farthest joint): the reduced
+        inertia's order of magnitude.
+    mass_reach : Σ m R (the inertia forces' order of magnitude per unit speed²).
+    lever, lever_field : the largest distance of a centre of mass or a load's point
+        from its link's joints, in mechanism sizes, and the field that sets it.
     """
 
     inertia: dict[str, LinkInertia]
@@ -163,6 +204,28 @@ class DynamicsData:
     unknown: str | None
     loads: tuple[Load, ...]
     energy_change: float
+    size: float = 1.0
+    inertia_scale: float = 0.0
+    mass_reach: float = 0.0
+    lever: float = 0.0
+    lever_field: str = ""
+
+    def check_speed(self, name: str, speed: float | None) -> None:
+        """Refuse a driver speed whose accelerations, kinetic energy or inertia forces
+        would pass :data:`MAGNITUDE_LIMIT` (the message names ``name``)."""
+        if speed is None or not math.isfinite(speed):
+            return  # the callers refuse what is not a finite number
+        w2 = speed * speed  # finite: |speed| <= 1.8e308 squares to at most inf
+        for what, scale in (
+            ("the accelerations (W² × size)", self.size),
+            ("the kinetic energy (W² × Σ (m R² + J))", self.inertia_scale),
+            ("the inertia forces (W² × Σ m R)", self.mass_reach),
+        ):
+            if w2 * scale > MAGNITUDE_LIMIT:
+                raise MechanismError(
+                    f"{name}: {speed:g} overflows {what}: {_magnitude(w2 * scale)} "
+                    f"(at most {MAGNITUDE_LIMIT:.0e})"
+                )
 
     def with_parameters(self, given: Mapping[str, float] | None) -> DynamicsData:
         """These data with parameter values ``given`` (the unknown too, then known).
@@ -193,6 +256,11 @@ class DynamicsData:
             None if self.unknown in values else self.unknown,
             self.loads,
             self.energy_change,
+            self.size,
+            self.inertia_scale,
+            self.mass_reach,
+            self.lever,
+            self.lever_field,
         )
 
     def parameter_values(self, **given: float) -> dict[str, float]:
@@ -332,6 +400,11 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
 
     raw_g = extra.get("gravity", [0.0, 0.0])
     gravity = _xy(raw_g, "gravity")
+    size = geometry.scale if geometry is not None else diameter(list(centres.values()))
+    if not size > 0:
+        raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
+    reach = _Reach(m, centres, size)
+    inertia_scale, mass_reach = reach.check_inertia(inertia, raw_inertia, gravity)
 
     raw_params = extra.get("parameters", {})
     if not isinstance(raw_params, Mapping):
@@ -360,7 +433,8 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
     if not isinstance(raw_loads, list):
         raise MechanismError("loads: must be a list")
     loads = tuple(
-        _read_load(spec, k, m, inertia, list(parameters)) for k, spec in enumerate(raw_loads)
+        _read_load(spec, k, m, inertia, list(parameters), reach)
+        for k, spec in enumerate(raw_loads)
     )
     if unknowns and not any(
         unknowns[0] in {s.name for e in ld.exprs for s in e.free_symbols} for ld in loads
@@ -373,11 +447,99 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
         unknown=unknowns[0] if unknowns else None,
         loads=loads,
         energy_change=energy_change,
+        size=size,
+        inertia_scale=inertia_scale,
+        mass_reach=mass_reach,
+        lever=reach.lever,
+        lever_field=reach.lever_field,
     )
 
 
+def _magnitude(x: float) -> str:
+    """``x`` for a message, an overflow said as such."""
+    return f"{x:.3g}" if math.isfinite(x) else "more than 1.8e308"
+
+
+class _Reach:
+    """How far the points of each link lie from its joints, and the overflow checks."""
+
+    def __init__(self, m: Mechanism, centres: Mapping[str, complex], size: float) -> None:
+        self.m, self.centres, self.size = m, centres, size
+        self.lever, self.lever_field = 0.0, ""
+
+    def __call__(self, link: str, z: complex, field: str) -> float:
+        """The size plus the distance of ``z`` from the link's farthest joint centre.
+
+        Raises
+        ------
+        MechanismError
+            naming ``field`` when that distance is more than :data:`MAX_LEVER` sizes.
+        """
+        arm = max(abs(z - self.centres[j]) for j in self.m.link_joints[link])
+        lever = arm / self.size
+        if not lever <= MAX_LEVER:
+            raise MechanismError(
+                f"{field}: {_magnitude(lever)} × the mechanism's size from the joints of "
+                f"link {link} (at most {MAX_LEVER:.0e}: the link equations' condition "
+                "grows with its square)"
+            )
+        if lever > self.lever:
+            self.lever, self.lever_field = lever, field
+        return self.size + arm
+
+    def check_inertia(
+        self,
+        inertia: Mapping[str, LinkInertia],
+        given: Mapping[str, Any],
+        gravity: complex,
+    ) -> tuple[float, float]:
+        """``(Σ (m R² + J), Σ m R)``; refuse a link whose inertia or weight overflows.
+
+        Raises
+        ------
+        MechanismError
+            naming ``inertia.<link>.J``, ``.com``, ``.mass`` or ``gravity`` when
+            ``m R² + J``, or ``m |g| R``, passes :data:`MAGNITUDE_LIMIT`.
+        """
+        scale = weight = 0.0
+        for link, li in inertia.items():
+            where = f"inertia.{link}"
+            R = self(link, li.com, f"{where}.com")
+            spec = given.get(link, {}) if isinstance(given, Mapping) else {}
+            if li.J > MAGNITUDE_LIMIT:
+                raise MechanismError(f"{where}.J: {li.J:g} is more than {MAGNITUDE_LIMIT:.0e}")
+            with np.errstate(all="ignore"):
+                term = li.mass * R * R + li.J
+                load = li.mass * abs(gravity) * R
+            if not term <= MAGNITUDE_LIMIT:
+                arm = R - self.size
+                if R * R <= MAGNITUDE_LIMIT:
+                    field = f"{where}.mass"
+                elif "com" in spec and arm > self.size:
+                    field = f"{where}.com"
+                else:
+                    field = "joints"  # the mechanism itself is that large
+                raise MechanismError(
+                    f"{field}: the link's inertia m R² + J reaches {_magnitude(term)} (at most "
+                    f"{MAGNITUDE_LIMIT:.0e}; R = {R:.3g}, the reach of its centre of mass)"
+                )
+            if not load <= MAGNITUDE_LIMIT:
+                raise MechanismError(
+                    f"gravity: the weight of link {link} and its moment m |g| R reach "
+                    f"{_magnitude(load)} (at most {MAGNITUDE_LIMIT:.0e})"
+                )
+            scale += term
+            weight += li.mass * R
+        return scale, weight
+
+
 def _read_load(
-    spec: Any, k: int, m: Mechanism, inertia: Mapping[str, LinkInertia], params: list[str]
+    spec: Any,
+    k: int,
+    m: Mechanism,
+    inertia: Mapping[str, LinkInertia],
+    params: list[str],
+    reach: _Reach,
 ) -> Load:
     import sympy
 
@@ -400,13 +562,21 @@ def _read_load(
         exprs = [parse_expression(raw[i], params, f"{where}.force[{i}]") for i in range(2)]
         at = _xy(spec["at"], f"{where}.at") if "at" in spec else inertia[link].com
         kind = "force"
+        R = reach(link, at, f"{where}.at")
+        if not R * R <= MAGNITUDE_LIMIT:
+            raise MechanismError(
+                f"{where}.at: the point is {R:.3g} from the link's joints (its moment "
+                f"would overflow: at most {MAGNITUDE_LIMIT**0.5:.0e})"
+            )
+        bound = MAGNITUDE_LIMIT / R
     else:
         if "at" in spec:
             raise MechanismError(f"{where}.at: a couple has no point of application")
         exprs = [parse_expression(spec["moment"], params, f"{where}.moment")]
         at = inertia[link].com
         kind = "moment"
+        bound = MAGNITUDE_LIMIT
     used = sorted({s.name for e in exprs for s in e.free_symbols} - {"q", "qdot"})
     symbols = [sympy.Symbol(n, real=True) for n in ("q", "qdot", *used)]
     functions = tuple(sympy.lambdify(symbols, e, modules="numpy") for e in exprs)
-    return Load(link, kind, at, tuple(exprs), where, functions, tuple(used))
+    return Load(link, kind, at, tuple(exprs), where, functions, tuple(used), bound)

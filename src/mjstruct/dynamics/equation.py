@@ -555,6 +555,23 @@ class FreeMotion:
     method: str
 
 
+def _check_slope(p: str, at0: float, at1: float) -> None:
+    """Refuse an unknown whose effect on the cycle work (``at1 − at0``) is lost in it."""
+    slope = at1 - at0
+    if abs(slope) > 1e-14 * (abs(at0) + abs(at1) + 1e-300):
+        return
+    why = (
+        f" ({p} changes it by {abs(slope):.3g} per unit, no more than the round-off of "
+        f"the rest, {abs(at0):.3g})"
+        if at0 != 0
+        else ""
+    )
+    raise MechanismError(
+        f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
+        f"does not depend on {p}{why}"
+    )
+
+
 def steady_parameter(
     path: PathForce,
     qdot: float,
@@ -585,11 +602,7 @@ def steady_parameter(
     if data.is_linear_in_unknown():
         c, e = cycle([data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})])
         slope = c[1] - c[0]
-        if not abs(slope) > 1e-14 * (abs(c[0]) + abs(c[1]) + 1e-300):
-            raise MechanismError(
-                f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
-                f"does not depend on {p}"
-            )
+        _check_slope(p, float(c[0]), float(c[1]))
         value = float((data.energy_change - c[0]) / slope)
         params = data.parameter_values(**{p: value})
         return params, data.energy_change, float(max(e[0], e[1]) * (1 + abs(value)))
@@ -637,11 +650,7 @@ def free_motion(
         variants = [data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})]
         w = work_integral(lambda x: path.force(x, 0.0, variants), T, u, method, n, harmonics, brk)
         slope_c = w.cycle[1] - w.cycle[0]
-        if not abs(slope_c) > 1e-14 * (abs(w.cycle[0]) + abs(w.cycle[1]) + 1e-300):
-            raise MechanismError(
-                f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
-                f"does not depend on {p}"
-            )
+        _check_slope(p, float(w.cycle[0]), float(w.cycle[1]))
         value = float((data.energy_change - w.cycle[0]) / slope_c)
         params = data.parameter_values(**{p: value})
         mix = np.array([1.0 - value, value])

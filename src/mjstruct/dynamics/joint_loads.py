@@ -51,6 +51,10 @@ __all__ = ["EPS", "ILL_CONDITIONED", "JointLoads", "LinkLoads", "joint_loads", "
 #: frames whose system is worse conditioned than this are named in a warning
 ILL_CONDITIONED = 1e3
 
+#: a lever (distance of a centre of mass or load point from its link's joints, in
+#: mechanism sizes) from which it, not a position, may explain a large condition number
+LONG_LEVER = 10.0
+
 #: machine epsilon: the solve's relative error is up to condition × EPS
 EPS = float(np.finfo(float).eps)
 
@@ -66,6 +70,10 @@ class LinkLoads:
     active_moment: FloatArray
     inertia_force: ComplexArray
     inertia_moment: FloatArray
+    #: the largest distance of a centre of mass or a load's point from its link's
+    #: joints in mechanism sizes, and its field (:attr:`DynamicsData.lever`)
+    lever: float = 0.0
+    lever_field: str = ""
 
     @property
     def force(self) -> ComplexArray:
@@ -96,7 +104,7 @@ def link_loads(
     J = np.array([data.inertia[x].J for x in lm.links])
     fa, ma = active_forces(data, lm, parameters, q, qdot)
     fi, mi = inertia_loads(lm, mass, J)
-    return LinkLoads(fa, ma, fi, mi)
+    return LinkLoads(fa, ma, fi, mi, data.lever, data.lever_field)
 
 
 @dataclass(frozen=True)
@@ -151,11 +159,21 @@ def joint_loads(
     solved_kappa = np.where(solved, cond, np.nan)
     worst = int(np.nanargmax(solved_kappa)) if np.isfinite(solved_kappa).any() else None
     if worst is not None and cond[worst] > ILL_CONDITIONED:
+        c = cond[worst]
+        lever = loads.lever
+        # the condition grows with the square of a long lever (about 4 λ² on the
+        # examples): then the lever, not the position, is the cause
+        what = (
+            f"ill-conditioned link equations ({loads.lever_field} lies {lever:.3g} × the "
+            "mechanism's size from its link's joints)"
+            if lever >= LONG_LEVER and c <= 100 * lever**2
+            else "near-singular position"
+        )
         warnings.append(
-            "near-singular position: the link equations' condition number reaches "
-            f"{cond[worst]:.3g} at q = {float(lm.q[worst, 0]):.9g}; accelerations and "
-            f"reactions there lose {np.log10(cond[worst]):.0f} to "
-            f"{2 * np.log10(cond[worst]):.0f} digits"
+            f"{what}: the link equations' condition number reaches "
+            f"{c:.3g} at q = {float(lm.q[worst, 0]):.9g}; accelerations and "
+            f"reactions there lose {np.log10(c):.0f} to "
+            f"{2 * np.log10(c):.0f} digits"
         )
     drive_cols = [c for c, u in enumerate(cols) if u.kind == "drive"]
     tau_sys = x[:, drive_cols].T  # drivers × frames

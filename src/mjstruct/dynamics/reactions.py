@@ -34,6 +34,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -149,12 +150,12 @@ def solve_stack(A: FloatArray, S: FloatArray) -> tuple[FloatArray, BoolArray, Fl
     try:
         X = np.linalg.solve(A_ok, rhs)
     except np.linalg.LinAlgError:
-        # an exactly singular frame (a zero pivot): find those by the SVD, solve the rest
-        sv = np.linalg.svd(A_ok, compute_uv=False)
-        exact = ~(sv[:, -1] > 0.0)
-        A_ok = np.where(exact[:, None, None], np.eye(u)[None], A_ok)
-        X = np.linalg.solve(A_ok, rhs)
-        X[exact] = np.inf
+        # a zero pivot (a frame singular exactly or in rounding): frame by frame, those
+        # frames unsolved (an infinite condition)
+        X = np.full(rhs.shape, np.inf)
+        for i in range(F):
+            with contextlib.suppress(np.linalg.LinAlgError):
+                X[i] = np.linalg.solve(A_ok[i], rhs[i])
     with np.errstate(all="ignore"):
         inv = np.abs(X[..., 1:]).max(axis=(1, 2))
         cond = np.abs(A_ok).sum(axis=2).max(axis=1) * inv

@@ -392,6 +392,7 @@ def motion_in_time(
         model, data = read_inputs(mechanism.mechanism, drivers, mechanism)
     else:
         model, data = read_inputs(mechanism, drivers)
+    data.check_speed("qdot0", qdot0)
     if len(model.drivers) != 1:
         raise MechanismError(
             "drivers: motion in time needs exactly one driver, "

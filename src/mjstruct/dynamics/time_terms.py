@@ -39,6 +39,7 @@ True
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -207,7 +208,7 @@ class ReducedEquation:
             try:
                 for j in range(q.size):
                     out[k, :, j] = f(float(q[j]), float(qdot[j]))
-            except (ArithmeticError, ValueError):
+            except (ArithmeticError, ValueError, TypeError):  # TypeError: a complex value
                 out[k] = np.nan
             if not np.isfinite(out[k]).all():
                 bad = int(np.argmax(~np.isfinite(out[k]).all(axis=0)))
@@ -236,6 +237,11 @@ class ReducedEquation:
 
     def rate(self, q: float, qdot: float) -> tuple[float, float]:
         """``(q̈, Q)`` at one state: the integrator's right-hand side, kept lean."""
+        if not (math.isfinite(q) and math.isfinite(qdot)):
+            raise NumericalError(
+                f"the motion leaves the doubles (q = {q:g}, qdot = {qdot:g}): the loads are "
+                "too large for the time span"
+            )
         c = self.pieces
         if c is None:
             acc = self.acceleration([q], [qdot])
@@ -251,8 +257,9 @@ class ReducedEquation:
         for k, fns in enumerate(self.functions):
             try:
                 fx, fy, m = fns[0](q, qdot)
-                Q += fx * K[3 + 3 * k] + fy * K[4 + 3 * k] + m * K[5 + 3 * k]
-            except (ArithmeticError, ValueError):
+                # float(): a negative number to a fractional power is complex in Python
+                Q = float(Q + fx * K[3 + 3 * k] + fy * K[4 + 3 * k] + m * K[5 + 3 * k])
+            except (ArithmeticError, ValueError, TypeError):
                 Q = float("nan")
         if not np.isfinite(Q):
             self.force([q], [qdot])  # names the load that is not finite
