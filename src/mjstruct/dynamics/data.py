@@ -39,6 +39,7 @@ import numpy.typing as npt
 from mjstruct.dynamics.expressions import parse_expression, reserved_names, switch_functions
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.geometry import diameter
+from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
@@ -312,12 +313,17 @@ def _link(value: Any, m: Mechanism, where: str) -> str:
     return link
 
 
-def centroid(m: Mechanism, link: str, centres: Mapping[str, complex]) -> complex:
-    """The centroid of a link's distinct joint centres (reference configuration)."""
+def centroid(m: Mechanism, link: str, centres: Mapping[str, complex], size: float) -> complex:
+    """The centroid of a link's distinct joint centres (reference configuration).
+
+    Centres closer than the kinematics' ``COINCIDE`` × ``size`` (the mechanism's size)
+    count once, at any scale.
+    """
+    tol = COINCIDE * size
     pts: list[complex] = []
     for jid in m.link_joints[link]:
         z = centres[jid]
-        if all(abs(z - p) > 1e-12 * (1 + abs(z)) for p in pts):
+        if all(abs(z - p) > tol for p in pts):
             pts.append(z)
     return sum(pts, 0j) / len(pts)
 
@@ -375,6 +381,9 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
     centres = _joint_centres(m) if geometry is None else geometry.centres
     extra = m.extra
     moving = [link for link in m.links if link != m.frame]
+    size = geometry.scale if geometry is not None else diameter(list(centres.values()))
+    if not size > 0:
+        raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
 
     raw_inertia = extra.get("inertia", {})
     if not isinstance(raw_inertia, Mapping):
@@ -392,17 +401,14 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
             raise MechanismError(f"{where}.mass: missing")
         mass = _number(spec["mass"], f"{where}.mass", 0.0)
         J = _number(spec.get("J", 0.0), f"{where}.J", 0.0)
-        com = _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link, centres)
+        com = _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link, centres, size)
         inertia[link] = LinkInertia(mass, J, com)
     for link in moving:
         if link not in inertia:
-            inertia[link] = LinkInertia(0.0, 0.0, centroid(m, link, centres))
+            inertia[link] = LinkInertia(0.0, 0.0, centroid(m, link, centres, size))
 
     raw_g = extra.get("gravity", [0.0, 0.0])
     gravity = _xy(raw_g, "gravity")
-    size = geometry.scale if geometry is not None else diameter(list(centres.values()))
-    if not size > 0:
-        raise MechanismError("joints.at: all joint centres coincide; the mechanism has no size")
     reach = _Reach(m, centres, size)
     inertia_scale, mass_reach = reach.check_inertia(inertia, raw_inertia, gravity)
 
