@@ -31,7 +31,13 @@ from mjstruct.dynamics import dynamic_analysis
 from mjstruct.dynamics.data import read_dynamics
 from mjstruct.dynamics.joint_loads import JointLoads, joint_loads, link_loads
 from mjstruct.dynamics.matrices import active_forces, link_motion
-from mjstruct.dynamics.reactions import inertia_loads, stack_loads, system_matrix, unknowns
+from mjstruct.dynamics.reactions import (
+    inertia_loads,
+    is_moment,
+    stack_loads,
+    system_matrix,
+    unknowns,
+)
 from mjstruct.dynamics.result import OUTPUTS
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics.model import KinematicModel
@@ -91,7 +97,7 @@ def reactions_step(name: str, frames: int, repeat: int) -> None:
     mass = np.array([data.inertia[x].mass for x in lm.links])
     J = np.array([data.inertia[x].J for x in lm.links])
     fi, mi = inertia_loads(lm, mass, J)
-    S = stack_loads(fa + fi, ma + mi)
+    S = stack_loads(fa + fi, ma + mi, model.scale)  # in units of the size, as ours
     A = system_matrix(model, lm, unknowns(model))
 
     def hand() -> np.ndarray:
@@ -101,7 +107,9 @@ def reactions_step(name: str, frames: int, repeat: int) -> None:
     ref = hand()
     r = ours()
     d = model.drivers[0]
-    col = next(c for c, u in enumerate(unknowns(model)) if u.kind == "drive")
+    cols = unknowns(model)
+    col = next(c for c, u in enumerate(cols) if u.kind == "drive")
+    ref = ref * np.where(is_moment(model, cols), model.scale, 1.0)  # the file's units
     assert r.driving is not None
     assert np.allclose(r.driving[d], ref[:, col], rtol=1e-12, atol=1e-12 * np.abs(ref).max())
     print(

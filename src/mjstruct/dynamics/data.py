@@ -171,11 +171,49 @@ class Load:
     def _affine(self) -> dict[str, bool]:
         return {}
 
+    def slope(self, name: str) -> Load:
+        """The load's rate of change in the parameter ``name``, as a load (compiled once).
+
+        What one unit of an unknown that enters affinely adds to the load, computed
+        without subtracting two values of the load (whose difference would lose the
+        digits of everything else in it); unbounded (it is not a load applied).
+        """
+        if name not in self._slopes:
+            import sympy
+
+            p = sympy.Symbol(name, real=True)
+            exprs = tuple(sympy.diff(e, p) for e in self.exprs)
+            used = sorted({s.name for e in exprs for s in e.free_symbols} - {"q", "qdot"})
+            symbols = [sympy.Symbol(n, real=True) for n in ("q", "qdot", *used)]
+            functions = tuple(
+                _constant(float(e))  # a load linear in the parameter: nothing to compile
+                if not e.free_symbols
+                else sympy.lambdify(symbols, e, modules="numpy")
+                for e in exprs
+            )
+            self._slopes[name] = Load(
+                self.link, self.kind, self.at, exprs, self.where, functions, tuple(used), math.inf
+            )
+        return self._slopes[name]
+
+    @cached_property
+    def _slopes(self) -> dict[str, Load]:
+        return {}
+
     @cached_property
     def jumps(self) -> dict[tuple[float, float, float], tuple[float, ...]]:
         """Where the load jumps along a path: (q_ref, direction, period) -> path
         parameters (filled by :meth:`~mjstruct.dynamics.equation.PathForce.switches`)."""
         return {}
+
+
+def _constant(value: float) -> Callable[..., float]:
+    """A load function that is the number ``value`` whatever its arguments."""
+
+    def f(*args: Any) -> float:
+        return value
+
+    return f
 
 
 @dataclass(frozen=True)
@@ -401,7 +439,9 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
             raise MechanismError(f"{where}.mass: missing")
         mass = _number(spec["mass"], f"{where}.mass", 0.0)
         J = _number(spec.get("J", 0.0), f"{where}.J", 0.0)
-        com = _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link, centres, size)
+        com = (
+            _xy(spec["com"], f"{where}.com") if "com" in spec else centroid(m, link, centres, size)
+        )
         inertia[link] = LinkInertia(mass, J, com)
     for link in moving:
         if link not in inertia:

@@ -49,6 +49,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import itertools
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -122,18 +123,37 @@ def coefficients(
     return V, W
 
 
+@dataclass(frozen=True)
+class Slope:
+    """A variant of the loads: their rate of change in the parameter ``name`` at
+    ``values`` (gravity and the loads without ``name`` add nothing).
+
+    The unknown of steady motion enters the loads affinely (usually): the work is then
+    ``A(p) = A(0) + p·A'``, and integrating ``A'`` itself keeps its digits whatever the
+    unit of p (a difference ``A(1) − A(0)`` loses them when one unit of p is small
+    beside the other loads).
+    """
+
+    values: Mapping[str, float]
+    name: str
+
+
+#: a set of parameter values, or the loads' rate of change in one of them
+Variant = Mapping[str, float] | Slope
+
+
 def generalised_force(
     mo: Motion,
     data: DynamicsData,
     links: Sequence[str],
     qload: FloatArray,
     qdot: npt.ArrayLike,
-    variants: Sequence[Mapping[str, float]],
+    variants: Sequence[Variant],
 ) -> FloatArray:
-    """``Q = Σ F·σ + M σ_θ`` (gravity included) for each parameter set: variants × frames.
+    """``Q = Σ F·σ + M σ_θ`` (gravity included) for each variant: variants × frames.
 
     ``mo`` carries first derivatives along the path; ``qload`` and ``qdot`` are what the
-    load expressions see.
+    load expressions see.  A :class:`Slope` variant gives ``∂Q/∂p``.
     """
     F = mo.q.shape[0]
     base = np.zeros(F)
@@ -153,10 +173,17 @@ def generalised_force(
             sig.append((np.zeros(F), np.zeros(F), mo.angle(load.link)[1]))
     out = np.empty((len(variants), F))
     for k, params in enumerate(variants):
-        Q = base.copy()
-        for load, (sx, sy, st) in zip(data.loads, sig, strict=True):
-            c = load.evaluate(qload, qdot, params)
-            Q += c[0] * sx + c[1] * sy + c[2] * st
+        if isinstance(params, Slope):
+            Q = np.zeros(F)
+            for load, (sx, sy, st) in zip(data.loads, sig, strict=True):
+                if params.name in load.arguments:
+                    c = load.slope(params.name).evaluate(qload, qdot, params.values)
+                    Q += c[0] * sx + c[1] * sy + c[2] * st
+        else:
+            Q = base.copy()
+            for load, (sx, sy, st) in zip(data.loads, sig, strict=True):
+                c = load.evaluate(qload, qdot, params)
+                Q += c[0] * sx + c[1] * sy + c[2] * st
         out[k] = Q
     return out
 
@@ -220,7 +247,7 @@ class PathForce:
         return mo
 
     def force(
-        self, u: npt.ArrayLike, qdot: npt.ArrayLike, variants: Sequence[Mapping[str, float]]
+        self, u: npt.ArrayLike, qdot: npt.ArrayLike, variants: Sequence[Variant]
     ) -> FloatArray:
         """Path generalised force ``Σ F · ds/du`` (variants × points)."""
         ua = np.atleast_1d(np.asarray(u, float))
@@ -357,6 +384,8 @@ class Integral:
     grid, grid_A : the method's own points (piece ends, samples, Gauss nodes) and A
         there (variants × points): where the motion may stop between two targets.
     grid_exact : which grid values are the method's result (not a screening estimate).
+    magnitude : the size of each variant's integral, ``period`` × the mean of |f| over
+        the points evaluated (about ∫|f|): the scale of its round-off.
     """
 
     A: FloatArray
@@ -367,6 +396,7 @@ class Integral:
     grid: FloatArray
     grid_A: FloatArray
     grid_exact: BoolArray
+    magnitude: FloatArray
 
 
 @functools.cache
@@ -383,9 +413,11 @@ def _gauss(
 ) -> Integral:
     """Gauss–Legendre on pieces between frames and jumps, halving pieces until converged.
 
-    A piece is split while its n- and n/2-node values differ by more than its share of
-    ``GAUSS_RTOL`` × ∫|f| (n = 32 on up to 200 pieces, else 6: pieces between many
-    frames are short); all pending pieces are evaluated in one call of ``f``.
+    A piece is split while its n- and n/2-node values of some variant differ by more
+    than its share of ``GAUSS_RTOL`` × that variant's ∫|f| (n = 32 on up to 200 pieces,
+    else 6: pieces between many frames are short); all pending pieces are evaluated in
+    one call of ``f``.  Each variant is judged against its own magnitude: variants in
+    different units (the work and its rate in a parameter) converge alike.
     """
     edges = np.unique(np.concatenate([np.linspace(0.0, period, GAUSS_PIECES + 1), targets, brk]))
     edges = edges[(edges >= 0.0) & (edges <= period)]
@@ -399,7 +431,7 @@ def _gauss(
     done_err: list[FloatArray] = []
     done_vals: list[FloatArray] = []
     count = 0
-    scale = 0.0
+    scale = np.zeros(0)
     for _ in range(GAUSS_ROUNDS):
         mid, half = (todo_a + todo_b) / 2, (todo_b - todo_a) / 2
         pts = (mid[:, None] + half[:, None] * x[None]).ravel()
@@ -407,9 +439,10 @@ def _gauss(
         vals = f(pts).reshape(-1, len(todo_a), len(x))
         fine = (vals[:, :, : len(x2)] * w2).sum(axis=2) * half
         coarse = (vals[:, :, len(x2) :] * w1).sum(axis=2) * half
-        err = np.abs(fine - coarse).max(axis=0)
-        scale = max(scale, float(np.abs(vals).mean(axis=(1, 2)).max()) * period)
-        bad = err > GAUSS_RTOL * scale * (2 * half) / period
+        err = np.abs(fine - coarse)
+        mean = np.abs(vals).mean(axis=(1, 2)) * period
+        scale = mean if scale.size == 0 else np.maximum(scale, mean)
+        bad = (err > GAUSS_RTOL * scale[:, None] * (2 * half) / period).any(axis=0)
         if count > GAUSS_MAX_POINTS:
             bad[:] = False
         done_a.append(todo_a[~bad])
@@ -441,7 +474,7 @@ def _gauss(
     grid = np.concatenate([bounds, node_u.ravel()])
     grid_A = np.concatenate([cum, node_A.reshape(cum.shape[0], -1)], axis=1)
     exact = np.arange(grid.size) < bounds.size
-    return Integral(cum[:, idx], cum[:, -1], err_all, count, None, grid, grid_A, exact)
+    return Integral(cum[:, idx], cum[:, -1], err_all, count, None, grid, grid_A, exact, scale)
 
 
 def work_integral(
@@ -480,13 +513,14 @@ def work_integral(
         cum = np.concatenate([np.zeros((vals.shape[0], 1)), np.cumsum(steps, axis=1)], axis=1)
         coarse = vals[:, :-1:2].sum(axis=1) * 2 * h if N >= 2 else np.full(vals.shape[0], np.inf)
         err = np.abs(steps.sum(axis=1) - coarse)
+        size = np.abs(vals[:, :-1]).mean(axis=1) * period
         if method == "trapezoid":
             A = np.stack([np.interp(targets, u, c) for c in cum])
             chord = np.diff(cum, axis=1) / h
             k = np.clip(np.searchsorted(u, targets, side="right") - 1, 0, N - 1)
             # the cycle by pairwise summation (a running sum loses digits over 2^16 steps)
             ones = np.ones(u.size, bool)
-            return Integral(A, steps.sum(axis=1), err, N, chord[:, k], u, cum, ones)
+            return Integral(A, steps.sum(axis=1), err, N, chord[:, k], u, cum, ones, size)
         c = np.fft.rfft(vals[:, :-1], axis=1) / N
         H = N // 2 if harmonics is None else max(0, min(int(harmonics), N // 2))
         k = np.arange(1, H + 1)
@@ -498,16 +532,19 @@ def work_integral(
         A = c[:, :1].real * targets[None] + 2 * np.real((ck / (1j * k * om)) @ (wave - 1.0))
         slope = c[:, :1].real + 2 * np.real(ck @ wave)
         exact = np.ones(targets.size, bool)
-        return Integral(A, c[:, 0].real * period, err, N, slope, targets, A, exact)
+        return Integral(A, c[:, 0].real * period, err, N, slope, targets, A, exact, size)
     if method == "adaptive":
         from scipy.integrate import quad_vec
 
         edges = np.unique(np.concatenate([[0.0, period], targets]))
         count = [0]
+        total: list[FloatArray] = []
 
         def fs(u: float) -> FloatArray:
             count[0] += 1
-            return f(np.array([u]))[:, 0]
+            val = f(np.array([u]))[:, 0]
+            total.append(np.abs(val))
+            return val
 
         parts, errs = [], []
         for a0, b0 in itertools.pairwise(edges):
@@ -520,7 +557,8 @@ def work_integral(
         idx = np.searchsorted(edges, targets)
         err_all = np.full(fine.shape[0], float(sum(errs)))
         exact = np.ones(edges.size, bool)
-        return Integral(cum[:, idx], cum[:, -1], err_all, count[0], None, edges, cum, exact)
+        size = np.mean(total, axis=0) * period
+        return Integral(cum[:, idx], cum[:, -1], err_all, count[0], None, edges, cum, exact, size)
     raise MechanismError(
         f"method: unknown integration method {method!r} (one of {', '.join(METHODS)})"
     )
@@ -555,21 +593,41 @@ class FreeMotion:
     method: str
 
 
-def _check_slope(p: str, at0: float, at1: float) -> None:
-    """Refuse an unknown whose effect on the cycle work (``at1 − at0``) is lost in it."""
-    slope = at1 - at0
-    if abs(slope) > 1e-14 * (abs(at0) + abs(at1) + 1e-300):
-        return
-    why = (
-        f" ({p} changes it by {abs(slope):.3g} per unit, no more than the round-off of "
-        f"the rest, {abs(at0):.3g})"
-        if at0 != 0
-        else ""
-    )
-    raise MechanismError(
-        f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
-        f"does not depend on {p}{why}"
-    )
+def _affine_variants(data: DynamicsData) -> list[Variant]:
+    """The loads with the unknown at 0, and their rate of change in it."""
+    assert data.unknown is not None
+    base = data.parameter_values(**{data.unknown: 0.0})
+    return [base, Slope(base, data.unknown)]
+
+
+def _affine_unknown(data: DynamicsData, w: Integral) -> tuple[dict[str, float], FloatArray, float]:
+    """The unknown from the cycle works of :func:`_affine_variants`: every parameter, the
+    mix of the two variants that is the solved loads (``[1, p]``) and the cycle work's
+    error estimate.
+
+    Raises
+    ------
+    MechanismError
+        naming the unknown when one unit of it changes the cycle work by no more than
+        ``GAUSS_RTOL`` of the work its loads do (gross): nothing fixes it then.
+    """
+    p = data.unknown
+    assert p is not None
+    slope, gross = float(w.cycle[1]), float(w.magnitude[1])
+    if not abs(slope) > GAUSS_RTOL * gross:
+        why = (
+            f" (one unit of {p} changes it by {abs(slope):.3g}, within the round-off of "
+            f"the {gross:.3g} its loads do over the cycle, summed without sign)"
+            if gross > 0
+            else ""
+        )
+        raise MechanismError(
+            f"parameters.{p}: the cycle work (one cycle in the direction of motion) "
+            f"does not depend on {p}{why}"
+        )
+    value = float((data.energy_change - w.cycle[0]) / slope)
+    err = float(w.error[0] + abs(value) * w.error[1])
+    return data.parameter_values(**{p: value}), np.array([1.0, value]), err
 
 
 def steady_parameter(
@@ -588,37 +646,51 @@ def steady_parameter(
     T = 2 * np.pi
     brk = path.switches(T) if method in ("gauss", "adaptive") else None
 
-    def cycle(variants: Sequence[Mapping[str, float]]) -> tuple[FloatArray, FloatArray]:
-        w = work_integral(
+    def cycle(variants: Sequence[Variant]) -> Integral:
+        return work_integral(
             lambda u: path.force(u, qdot, variants), T, np.zeros(0), method, n, harmonics, brk
         )
-        return w.cycle, w.error
 
     if data.unknown is None:
         params = data.parameter_values()
-        c, e = cycle([params])
-        return params, float(c[0]), float(e[0])
+        w = cycle([params])
+        return params, float(w.cycle[0]), float(w.error[0])
     p = data.unknown
     if data.is_linear_in_unknown():
-        c, e = cycle([data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})])
-        slope = c[1] - c[0]
-        _check_slope(p, float(c[0]), float(c[1]))
-        value = float((data.energy_change - c[0]) / slope)
-        params = data.parameter_values(**{p: value})
-        return params, data.energy_change, float(max(e[0], e[1]) * (1 + abs(value)))
+        params, _, err = _affine_unknown(data, cycle(_affine_variants(data)))
+        return params, data.energy_change, err
     from scipy.optimize import root_scalar
 
     def residual(x: float) -> float:
-        return float(cycle([data.parameter_values(**{p: x})])[0][0] - data.energy_change)
+        return float(cycle([data.parameter_values(**{p: x})]).cycle[0] - data.energy_change)
 
-    sol = root_scalar(residual, x0=0.0, x1=1.0, method="secant", xtol=1e-14, rtol=1e-13)
+    # the secant starts from 0 and the Newton step from 0, which sets the unknown's
+    # scale (its unit may be anything); from one unit, converged only relatively
+    # (xtol the smallest double), where that step is not defined
+    x1, xtol = 1.0, float(np.finfo(float).tiny)
+    try:
+        w = cycle(_affine_variants(data))
+        with np.errstate(all="ignore"):
+            step = float((data.energy_change - w.cycle[0]) / w.cycle[1])
+        if np.isfinite(step) and step != 0.0:
+            x1, xtol = step, 1e-14 * abs(step)
+    except MechanismError:  # a derivative not finite at 0
+        pass
+    with warnings.catch_warnings():
+        # "Tolerance reached": two iterates with equal residuals, reported below
+        warnings.simplefilter("ignore", RuntimeWarning)
+        sol = root_scalar(
+            residual, x0=0.0, x1=x1, method="secant", xtol=xtol, rtol=1e-13, maxiter=100
+        )
     if not sol.converged or not np.isfinite(sol.root):
+        start = "from 0 and the Newton step from 0" if x1 != 1.0 else "from 0 and 1"
         raise NumericalError(
-            f"parameters.{p}: no value makes the cycle work {data.energy_change:g}"
+            f"parameters.{p}: no value makes the cycle work {data.energy_change:g} "
+            f"(the loads are not affine in {p}; the secant method started {start})"
         )
     params = data.parameter_values(**{p: float(sol.root)})
-    c, e = cycle([params])
-    return params, float(c[0]), float(e[0])
+    w = cycle([params])
+    return params, float(w.cycle[0]), float(w.error[0])
 
 
 def free_motion(
@@ -645,19 +717,13 @@ def free_motion(
     data = path.data
     brk = path.switches(T) if method in ("gauss", "adaptive") else None
     if data.unknown is not None and data.is_linear_in_unknown():
-        # one pass with the unknown at 0 and 1: everything is affine in it
-        p = data.unknown
-        variants = [data.parameter_values(**{p: 0.0}), data.parameter_values(**{p: 1.0})]
+        # one pass with the unknown at 0 and the loads' rate in it: all is affine in it
+        variants = _affine_variants(data)
         w = work_integral(lambda x: path.force(x, 0.0, variants), T, u, method, n, harmonics, brk)
-        slope_c = w.cycle[1] - w.cycle[0]
-        _check_slope(p, float(w.cycle[0]), float(w.cycle[1]))
-        value = float((data.energy_change - w.cycle[0]) / slope_c)
-        params = data.parameter_values(**{p: value})
-        mix = np.array([1.0 - value, value])
+        params, mix, err = _affine_unknown(data, w)
         A = mix @ w.A
         grid_A = mix @ w.grid_A
         cycle = float(data.energy_change)
-        err = float(np.max(w.error) * (1 + abs(value)))
         w_slope = None if w.slope is None else (mix @ w.slope)[None]
     else:
         if data.unknown is not None:
@@ -736,6 +802,16 @@ def _free_motion_ode(
     calls = [0]
     edges = np.concatenate([[0.0], path.switches(T), [T]])
     rtol = ODE_RTOL
+    guess = None
+    if data.unknown is not None:
+        guess = steady_parameter(path, qdot0)[0][data.unknown]
+        frozen = data.parameter_values(**{data.unknown: guess})
+    else:
+        frozen = data.parameter_values()
+    # E's absolute tolerance in its own scale (E may be 1e-90 or 1e90): the kinetic
+    # energy and the work of the loads (frozen at the initial speed) over a cycle
+    work = T * float(np.abs(path.force(u, qdot0, [frozen])[0]).max())
+    atol = max(1e-14 * (abs(E0) + work), float(np.finfo(float).tiny))
 
     def run(params: Mapping[str, float]) -> tuple[FloatArray, float, float | None]:
         """E at the frames (until a stop), E at the cycle's end, the stop's u."""
@@ -762,7 +838,7 @@ def _free_motion_ode(
                 [y],
                 method="DOP853",
                 rtol=rtol,
-                atol=1e-14 * (abs(E0) + 1.0),
+                atol=atol,
                 events=stopped,
                 dense_output=True,
             )
@@ -790,13 +866,15 @@ def _free_motion_ode(
                 )
             return float(end - E0 - data.energy_change)
 
-        guess = steady_parameter(path, qdot0)[0][p]
+        assert guess is not None
+        # steps relative to the guess: the unknown's unit may be anything (one unit
+        # only when the frozen loads give exactly 0)
         root = root_scalar(
             residual,
             x0=guess,
-            x1=guess * (1 + 1e-3) + 1e-6,
+            x1=guess * (1 + 1e-3) if guess != 0 else 1e-3,
             method="secant",
-            xtol=1e-13,
+            xtol=max(1e-13 * abs(guess), float(np.finfo(float).tiny)),
             rtol=1e-12,
         )
         if not root.converged:

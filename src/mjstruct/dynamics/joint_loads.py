@@ -37,6 +37,7 @@ from mjstruct.dynamics.reactions import (
     Unknown,
     generalised_drive,
     inertia_loads,
+    is_moment,
     solve_stack,
     stack_loads,
     system_matrix,
@@ -150,10 +151,12 @@ def joint_loads(
     """
     cols = unknowns(model)
     force, moment = loads.force, loads.moment
+    # in units of the mechanism's size: the solve and its condition are scale-free
     A = system_matrix(model, lm, cols)
     ok = lm.valid.copy()
-    S = np.where(ok[:, None], stack_loads(force, moment), np.nan)
+    S = np.where(ok[:, None], stack_loads(force, moment, model.scale), np.nan)
     x, solved, cond = solve_stack(A, S)
+    x[:, is_moment(model, cols)] *= model.scale  # moments back in the file's units
     warnings = _frame_warnings(lm, ok, solved, cond)
     solved &= ok
     solved_kappa = np.where(solved, cond, np.nan)
@@ -231,12 +234,7 @@ def _excluded_equation(
     """
     m = model.mechanism
     ell = model.scale
-    is_force = np.array(
-        [
-            u.kind in ("x", "y", "n") or (u.kind == "drive" and m.joint(u.joint).kind == "P")
-            for u in cols
-        ]
-    )
+    is_force = ~is_moment(model, cols)
     ax = np.abs(x)
     fa, ma = loads.active_force, loads.active_moment
     fi, mi = loads.inertia_force, loads.inertia_moment

@@ -13,7 +13,12 @@ moment about the centre of mass) balance the active loads, the inertia loads
   actuator applies to the joint's second listed link.
 
 All frames are solved at once (``np.linalg.solve`` on a frames × u × u stack), with
-an estimate of each frame's condition number from the same factorisation.  The
+an estimate of each frame's condition number from the same factorisation.  The system
+is written in units of the mechanism's size ℓ: moment equations and moment unknowns
+are divided by ℓ, so that every entry of the matrix is a pure number (a unit force,
+or an arm in sizes) and the solve, its condition number and the singular-frame test
+do not depend on the unit of length (a mechanism scaled by s gives its loads scaled
+by s and s², to round-off).  The
 *excluded equation* is the equation of motion of each driver (virtual power with the
 analogs σ, independent of the link equations): its residual, relative to the largest
 load of the frame, is the final check.
@@ -77,18 +82,31 @@ def unknowns(model: KinematicModel) -> list[Unknown]:
     return out
 
 
+def is_moment(model: KinematicModel, cols: Sequence[Unknown]) -> BoolArray:
+    """Which unknowns are moments (a slider's moment, a revolute driver's torque)."""
+    m = model.mechanism
+    return np.array(
+        [u.kind == "m" or (u.kind == "drive" and m.joint(u.joint).kind == "R") for u in cols],
+        dtype=bool,
+    )
+
+
 def system_matrix(model: KinematicModel, lm: LinkMotion, cols: Sequence[Unknown]) -> FloatArray:
     """The stacked matrix ``A`` (frames × 3 links × unknowns) of the link equations.
 
     Row ``3j + i`` is equation i (Fx, Fy, moment about the centre of mass) of moving
     link j; a unit value of each unknown applies a wrench at the joint's centre to its
-    link (sign +1) and to the joint's first listed link (sign −1).
+    link (sign +1) and to the joint's first listed link (sign −1).  In units of the
+    mechanism's size ℓ (``model.scale``): the moment rows are divided by ℓ and the
+    moment unknowns are in units of ℓ (a force times the size), so the arms enter as
+    multiples of ℓ and every entry is a pure number.
     """
     m = model.mechanism
     row = {link: j for j, link in enumerate(lm.links)}
     jrow = {jid: k for k, jid in enumerate(lm.joints)}
     F = lm.q.shape[0]
     A = np.zeros((F, 3 * len(lm.links), len(cols)))
+    ell = model.scale
     com = lm.com[0]
     for c, u in enumerate(cols):
         joint = m.joint(u.joint)
@@ -107,7 +125,7 @@ def system_matrix(model: KinematicModel, lm: LinkMotion, cols: Sequence[Unknown]
             if link not in row:  # the frame: no equations
                 continue
             j = row[link]
-            arm = P - com[j]
+            arm = (P - com[j]) / ell
             A[:, 3 * j, c] += sign * f.real
             A[:, 3 * j + 1, c] += sign * f.imag
             A[:, 3 * j + 2, c] += sign * (mu + arm.real * f.imag - arm.imag * f.real)
@@ -173,13 +191,17 @@ def inertia_loads(
     return -mass[:, None] * lm.com[2], -J[:, None] * lm.angle[2]
 
 
-def stack_loads(force: ComplexArray, moment: FloatArray) -> FloatArray:
-    """The load vector ``S`` per frame (frames × 3 links), rows Fx, Fy, M per link."""
+def stack_loads(force: ComplexArray, moment: FloatArray, size: float) -> FloatArray:
+    """The load vector ``S`` per frame (frames × 3 links), rows Fx, Fy, M per link.
+
+    The moments are divided by the mechanism's ``size`` (the rows of
+    :func:`system_matrix`).
+    """
     L, F = moment.shape
     S = np.empty((F, 3 * L))
     S[:, 0::3] = force.real.T
     S[:, 1::3] = force.imag.T
-    S[:, 2::3] = moment.T
+    S[:, 2::3] = moment.T / size
     return S
 
 

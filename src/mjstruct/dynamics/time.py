@@ -50,7 +50,12 @@ import numpy.typing as npt
 from mjstruct.dynamics.data import DynamicsData
 from mjstruct.dynamics.equation import PathForce, steady_parameter
 from mjstruct.dynamics.inputs import read_inputs
-from mjstruct.dynamics.time_terms import TABLE_POINTS, ReducedEquation, reduced_equation
+from mjstruct.dynamics.time_terms import (
+    TABLE_POINTS,
+    ReducedEquation,
+    driver_unit,
+    reduced_equation,
+)
 from mjstruct.errors import MechanismError, NumericalError, expect_int
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
@@ -336,8 +341,9 @@ def motion_in_time(
     method : ``auto`` (explicit DOP853, or Radau when the stiffness ratio exceeds
         :data:`STIFF_RATIO`, switching to Radau where the rest of the run turns stiff), or
         one of ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``.
-    rtol, atol : the solver's tolerances (``atol`` default ``rtol``, in the units of
-        q and q̇; the work's scales with the kinetic energy).
+    rtol, atol : the solver's tolerances (``atol`` in the units of q and q̇; default
+        ``rtol`` × q's unit: a radian for a revolute driver, the mechanism's size for a
+        slider; the work rides along without steering the steps).
     parameters : values overriding the file's.  An unknown (``null``) parameter left
         open is solved as for steady motion when no load depends on ``qdot``.
     table : grid points per turn of the interpolated coefficients (doubled, up to
@@ -431,7 +437,8 @@ def motion_in_time(
         )
     stiffness = _stiffness(eq, start, qdot0, t_end)
     T0 = V0 * qdot0**2 / 2
-    a = rtol if atol is None else float(atol)
+    # the default absolute tolerance in q's unit: a radian, or the size for a slider
+    a = rtol * driver_unit(model) if atol is None else float(atol)
     # the work rides along: it does not steer the steps, so its balance measures them
     atol_vec = np.array([a, a, np.inf])
     y0 = np.array([start, float(qdot0), 0.0])

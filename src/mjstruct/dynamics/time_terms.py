@@ -57,7 +57,8 @@ FloatArray = npt.NDArray[np.float64]
 #: grid points of the default table over one driver turn
 TABLE_POINTS = 2048
 
-#: relative step of the central differences of the exact mode's q-derivatives
+#: step of the central differences of the exact mode's q-derivatives, relative to
+#: |q| plus q's unit (:func:`driver_unit`)
 DIFF_STEP = 1e-5
 
 #: relative mismatch of the coefficients after one turn above which they are not periodic
@@ -84,6 +85,12 @@ def kinematic_terms(mo: Motion, data: DynamicsData, links: tuple[str, ...]) -> F
         else:
             rows += [np.zeros(n), np.zeros(n), np.asarray(mo.angle(load.link)[1], float)]
     return np.array(rows, dtype=float)
+
+
+def driver_unit(model: KinematicModel) -> float:
+    """The natural unit of the first driver's coordinate: 1 (a radian) for a revolute
+    driver, the mechanism's size for a prismatic one."""
+    return model.scale if model.mechanism.joint(model.drivers[0]).kind == "P" else 1.0
 
 
 def _scalar(x: float) -> float:
@@ -168,6 +175,13 @@ class ReducedEquation:
     def links(self) -> tuple[str, ...]:
         return tuple(x for x in self.model.mechanism.links if x != self.model.frame)
 
+    @property
+    def unit(self) -> float:
+        """The natural unit of q: a radian for a revolute driver, the mechanism's size
+        for a slider (so that steps and tolerances in q do not depend on the unit of
+        length)."""
+        return driver_unit(self.model)
+
     def terms(
         self, q: npt.ArrayLike, derivative: bool = False
     ) -> tuple[FloatArray, FloatArray | None]:
@@ -186,7 +200,7 @@ class ReducedEquation:
             return K, dK
         if not derivative:
             return self._exact(qa), None
-        h = DIFF_STEP * (1.0 + np.abs(qa))
+        h = DIFF_STEP * (self.unit + np.abs(qa))
         K3 = self._exact(np.concatenate([qa, qa - h, qa + h]))
         n = qa.size
         return K3[:, :n], (K3[:, 2 * n :] - K3[:, n : 2 * n]) / (2 * h)
