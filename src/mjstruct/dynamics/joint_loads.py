@@ -156,7 +156,8 @@ def joint_loads(
     ok = lm.valid.copy()
     S = np.where(ok[:, None], stack_loads(force, moment, model.scale), np.nan)
     x, solved, cond = solve_stack(A, S)
-    x[:, is_moment(model, cols)] *= model.scale  # moments back in the file's units
+    moments = is_moment(model, cols)
+    x[:, moments] *= model.scale  # moments back in the file's units
     warnings = _frame_warnings(lm, ok, solved, cond)
     solved &= ok
     solved_kappa = np.where(solved, cond, np.nan)
@@ -181,7 +182,7 @@ def joint_loads(
     drive_cols = [c for c, u in enumerate(cols) if u.kind == "drive"]
     tau_sys = x[:, drive_cols].T  # drivers × frames
     tau_eom = np.zeros_like(tau_sys) if free else generalised_drive(lm, force, moment)
-    residual = _excluded_equation(model, cols, loads, x, solved, tau_sys, tau_eom)
+    residual = _excluded_equation(model, moments, loads, x, solved, tau_sys, tau_eom)
     check = float(np.nanmax(residual)) if np.isfinite(residual).any() else None
     driving: dict[str, FloatArray] | None = None
     if "driving" in wanted:
@@ -220,7 +221,7 @@ def _frame_warnings(
 
 def _excluded_equation(
     model: KinematicModel,
-    cols: list[Unknown],
+    moments: BoolArray,
     loads: LinkLoads,
     x: FloatArray,
     solved: BoolArray,
@@ -229,12 +230,13 @@ def _excluded_equation(
 ) -> FloatArray:
     """Per-frame residual of the excluded equation, relative to the frame's largest load.
 
-    Moments count as forces at the mechanism's size (which also multiplies the
-    divisor of a torque); frames not solved are NaN.
+    ``moments``: which unknowns (columns of ``x``) are moments.  Moments count as
+    forces at the mechanism's size (which also multiplies the divisor of a torque);
+    frames not solved are NaN.
     """
     m = model.mechanism
     ell = model.scale
-    is_force = ~is_moment(model, cols)
+    is_force = ~moments
     ax = np.abs(x)
     fa, ma = loads.active_force, loads.active_moment
     fi, mi = loads.inertia_force, loads.inertia_moment
