@@ -5,13 +5,18 @@ search over every permutation of the joints, for the canonical code and the loop
 deaf to SIGTERM; ``convert`` wrote a 20 000-joint file of this kind that ``analyze``
 never finished.  Now parallel joints are counted as one with a multiplicity (exact:
 checked against nauty on the whole graph and against the exhaustive drawing search),
-and a long nauty run sits in a worker process that a signal stops at once.
+and a long nauty run sits in a worker process that a signal stops at once.  Parallel
+paths (k binary links each joining links 0 and 1 through two joints; any chains of
+degree-two vertices with the same ends) are a multiplicity too: 1500 of them took nauty
+about a minute.
 """
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
+import random
 import signal
 import subprocess
 import sys
@@ -64,6 +69,146 @@ def test_convert_of_parallel_joints_then_analyze(tmp_path, capsys) -> None:
     assert main(["analyze", str(out), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert (report["n"], report["K"], report["loops"][:3]) == (2, 4999, [2, 2, 2])
+
+
+def _paths(count: int, kind_of_last: str = "R") -> dict[str, object]:
+    joints = [{"id": f"A{k}", "links": ["0", f"m{k}"]} for k in range(count)]
+    joints += [{"id": f"B{k}", "links": [f"m{k}", "1"]} for k in range(count)]
+    joints[-1]["kind"] = kind_of_last
+    return {"frame": "0", "joints": joints}
+
+
+@pytest.mark.parametrize("count", [1500, 5000])
+def test_analyze_counts_parallel_paths_as_a_multiplicity(tmp_path, capsys, count) -> None:
+    # before: 1500 paths took nauty about a minute (three times: codes and loops)
+    path = tmp_path / "paths.json"
+    path.write_text(json.dumps(_paths(count)))
+    assert main(["analyze", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["n"], out["K"], out["p"]) == (count + 2, count - 1, 2 * count)
+    # side by side: every loop is links 0, m_i, 1, m_j (the outer one too)
+    assert out["loops"] == [4] * count and out["loops_rule"] == "minimal"
+    m = Mechanism.build(
+        [(j["id"], j["links"], j.get("kind", "R")) for j in _paths(count)["joints"]],  # type: ignore[attr-defined]
+        frame="0",
+    )
+    assert canonical_code(m) == out["canonical"]
+    assert canonical_code(m, "mechanism") == out["canonical_mechanism"]
+    # the same mechanism written otherwise has the same code; one prismatic joint among
+    # the paths' joints changes the mechanism's code, not the chain's
+    assert canonical_code(_shuffled(m, seed=count), "mechanism") == out["canonical_mechanism"]
+    with_p = Mechanism.build(
+        [(j["id"], j["links"], j.get("kind", "R")) for j in _paths(count, "P")["joints"]],  # type: ignore[attr-defined]
+        frame="0",
+    )
+    assert canonical_code(with_p) == out["canonical"]
+    assert canonical_code(with_p, "mechanism") != out["canonical_mechanism"]
+
+
+def _shuffled(m: Mechanism, seed: int) -> Mechanism:
+    """``m`` with new ids, its links and joints in another order (frame and drivers
+    kept): isomorphic at every level."""
+    rng = random.Random(seed)
+    new = {x: f"L{k}" for k, x in enumerate(rng.sample(list(m.links), len(m.links)))}
+    joints = [
+        Joint(f"Q{j.id}", tuple(rng.sample([new[x] for x in j.links], len(j.links))), j.kind)
+        for j in m.joints
+    ]
+    rng.shuffle(joints)
+    links = [new[x] for x in m.links]
+    rng.shuffle(links)
+    return Mechanism(
+        tuple(links),
+        tuple(joints),
+        frame=None if m.frame is None else new[m.frame],
+        drivers=tuple(f"Q{d}" for d in m.drivers),
+    )
+
+
+Bundle = tuple[str, str, list[str], int]
+
+
+@st.composite
+def bundled(draw: st.DrawFn, big: bool = True) -> tuple[Mechanism, list[Bundle]]:
+    """A random chain and bundles of parallel chains to add to it: each bundle is
+    ``copies`` paths of binary links between two of its links (the same link for a
+    cycle through it), with the kinds of the path's joints."""
+    # small: few enough drawings for the exhaustive search, bundles of two to four
+    base = draw(chains(max_links=6, max_multiplicity=3) if big else chains(4, 2))
+    specs: list[Bundle] = []
+    for _ in range(draw(st.integers(1, 3 if big else 2))):
+        u, v = draw(st.sampled_from(base.links)), draw(st.sampled_from(base.links))
+        length = draw(st.integers(1, 3))  # binary links along the path
+        kinds = draw(st.lists(st.sampled_from("RRP"), min_size=length + 1, max_size=length + 1))
+        specs.append((u, v, kinds, draw(st.integers(0, 40) if big else st.integers(2, 4))))
+    return base, specs
+
+
+def _with_bundles(
+    base: Mechanism, specs: list[Bundle], odd: tuple[int, int, int] | None = None
+) -> Mechanism:
+    """``base`` with the bundles' paths; ``odd`` = (bundle, joint, path) flips the kind
+    of that joint of that path of the bundle."""
+    links, joints = list(base.links), list(base.joints)
+    for b, (u, v, kinds, copies) in enumerate(specs):
+        for c in range(copies):
+            names = [f"x{b}_{c}_{i}" for i in range(len(kinds) - 1)]
+            links += names
+            path = [u, *names, v]
+            for i, (x, y) in enumerate(itertools.pairwise(path)):
+                kind = kinds[i]
+                if odd == (b, i, c):
+                    kind = "P" if kind == "R" else "R"
+                joints.append(Joint(f"Y{b}_{c}_{i}", (x, y), kind))
+    return Mechanism(tuple(links), tuple(joints), frame="0", drivers=base.drivers)
+
+
+@settings(max_examples=50, deadline=None)
+@given(bundled(), st.data(), st.sampled_from(["chain", "kinds", "mechanism"]))
+def test_codes_with_parallel_chains_agree_with_nauty_on_the_whole_graph(spec, data, level):
+    # a and b: the same chain written otherwise, one of its paths with a joint of the
+    # other kind (in a, in b: the same joint of another path, or another joint), one
+    # path fewer in b, or one moved to another bundle of paths as long (same counts)
+    base, specs = spec
+    pick = data.draw(st.integers(0, len(specs) - 1))
+    u, v, kinds, copies = specs[pick]
+    odd_a = odd_b = None
+    change = data.draw(st.sampled_from(["none", "fewer", "kind", "move"]))
+    if change == "kind" and copies:
+        odd_a = (pick, data.draw(st.integers(0, len(kinds) - 1)), 0)
+        odd_b = (pick, data.draw(st.integers(0, len(kinds) - 1)), copies - 1)
+    b_specs = list(specs)
+    if change in ("fewer", "move") and copies:
+        b_specs[pick] = (u, v, kinds, copies - 1)
+    if change == "move":  # the path to a bundle of the same length: as many links
+        to = data.draw(st.integers(0, len(specs) - 1))
+        if len(specs[to][2]) == len(kinds):
+            x, y, other_kinds, n = b_specs[to]
+            b_specs[to] = (x, y, other_kinds, n + 1)
+        else:
+            b_specs[pick] = specs[pick]
+    a = _with_bundles(base, specs, odd_a)
+    b = _shuffled(_with_bundles(base, b_specs, odd_b), data.draw(st.integers()))
+    same = _full_certificate(a, level) == _full_certificate(b, level)
+    sizes = [len(c) for c in colour_classes(a, level)] == [
+        len(c) for c in colour_classes(b, level)
+    ]
+    assert (canonical_code(a, level) == canonical_code(b, level)) == (same and sizes)
+    assert same or change != "none"
+
+
+@settings(max_examples=80, deadline=None)
+@given(bundled(big=False))
+def test_loops_with_parallel_chains_agree_with_the_exhaustive_search(spec) -> None:
+    m = _with_bundles(*spec)
+    try:
+        exact = loops._minimal_faces(m.adjacency)  # every drawing of the whole graph
+    except loops._TooMany:
+        return
+    got = loop_assortment(m)
+    assert (got is None) == (exact is None)
+    if got is not None:
+        assert got.sizes == exact and got.rule == "minimal"
 
 
 LEVELS_CHECKED: list[Level] = ["chain", "mechanism"]
@@ -139,31 +284,44 @@ def test_the_quotient_applies_only_to_large_graphs() -> None:
     assert canonical_code(small).split("-")[1] != canonical_code(big).split("-")[1]
 
 
+def _blocks(count: int) -> dict[str, object]:
+    """``count`` triangles-with-a-tail at link 0 (links a, b, c; joints 0a, ab, b0, ac,
+    c0): no twins, no parallel chains (each block's chains end at its own link a), and
+    nauty's search over the blocks' permutations is cubic: 1000 blocks take minutes."""
+    joints = []
+    for i in range(count):
+        a, b, c = f"a{i}", f"b{i}", f"c{i}"
+        joints += [["0", a], [a, b], [b, "0"], [a, c], [c, "0"]]
+    return {"frame": "0", "joints": [{"id": f"J{k}", "links": js} for k, js in enumerate(joints)]}
+
+
+def _children(pid: int) -> bytes:
+    return subprocess.run(["pgrep", "-P", str(pid)], capture_output=True).stdout
+
+
 @pytest.mark.parametrize(
     ("signum", "status", "line"),
     [(signal.SIGTERM, 143, "mjstruct: terminated"), (signal.SIGINT, 130, "mjstruct: interrupted")],
 )
 def test_a_signal_stops_a_long_nauty_run_at_once(tmp_path, signum, status, line) -> None:
-    # 1500 parallel two-joint paths between links 0 and 1: no twins to merge, and
-    # nauty's search takes about a minute inside C (measured 14 s for 1000 paths)
-    n = 1500
-    joints = [{"id": f"A{k}", "links": ["0", f"m{k}"]} for k in range(n)]
-    joints += [{"id": f"B{k}", "links": [f"m{k}", "1"]} for k in range(n)]
-    path = tmp_path / "paths.json"
-    path.write_text(json.dumps({"frame": "0", "joints": joints}))
+    path = tmp_path / "blocks.json"
+    path.write_text(json.dumps(_blocks(1000)))
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     proc = subprocess.Popen(
-        [sys.executable, "-m", "mjstruct", "analyze", str(path), "--json"],
+        [sys.executable, "-m", "mjstruct", "analyze", str(path), "--json", "--no-loops"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         env=env,
     )
     try:
-        time.sleep(2.0)  # start-up and the structural formulas: then inside nauty
-        assert proc.poll() is None
+        # whatever the load: signal once nauty runs in its worker (the long phase)
+        deadline = time.monotonic() + 120
+        while not _children(proc.pid):
+            assert proc.poll() is None and time.monotonic() < deadline
+            time.sleep(0.02)
         sent = time.monotonic()
         proc.send_signal(signum)
-        _, err = proc.communicate(timeout=10)
+        _, err = proc.communicate(timeout=30)
         waited = time.monotonic() - sent
     finally:
         if proc.poll() is None:
@@ -172,7 +330,65 @@ def test_a_signal_stops_a_long_nauty_run_at_once(tmp_path, signum, status, line)
     assert proc.returncode == status and err.decode() == line + "\n"
     assert waited < 1.5, waited
     # no worker left behind
-    assert not subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True).stdout
+    assert not subprocess.run(["pgrep", "-f", str(path)], capture_output=True).stdout
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.25, 0.5])
+def test_sigterm_at_any_moment_stops_the_command(tmp_path, delay) -> None:
+    # start-up, imports, reading, the structural formulas: wherever SIGTERM lands, the
+    # command stops at once, with its one line (or, before the interpreter runs our
+    # code, killed by the signal as any program is: no output either way)
+    path = tmp_path / "paths.json"
+    path.write_text(json.dumps(_paths(5000)))
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mjstruct", "analyze", str(path), "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env=env,
+    )
+    try:
+        time.sleep(delay)
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        out, err = proc.communicate(timeout=30)
+        waited = time.monotonic() - sent
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    if proc.returncode == 0:  # it had finished
+        assert json.loads(out)["n"] == 5002
+        return
+    assert (proc.returncode, err) in ((143, b"mjstruct: terminated\n"), (-signal.SIGTERM, b""))
+    assert out == b"" and waited < 1.5, waited
+
+
+def test_ctrl_c_while_the_command_is_imported_is_one_line() -> None:
+    # the import of the command, made to take the KeyboardInterrupt a Ctrl-C raises
+    probe = (
+        "import runpy, sys\n"
+        "class Stop:\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        "        if name == 'mjstruct.cli.main':\n"
+        "            raise KeyboardInterrupt\n"
+        "sys.meta_path.insert(0, Stop())\n"
+        "runpy.run_module('mjstruct', run_name='__main__')\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, env=env, timeout=60)
+    assert (p.returncode, p.stderr, p.stdout) == (130, b"mjstruct: interrupted\n", b"")
+
+
+def test_a_signal_while_the_parser_is_built_is_one_line(monkeypatch, capsys) -> None:
+    from mjstruct.cli import main as cli_main
+
+    def interrupted(command: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli_main, "build_parser", interrupted)
+    assert main(["analyze", "x.json"]) == 130
+    assert capsys.readouterr().err == "mjstruct: interrupted\n"
 
 
 def test_a_large_graph_gets_the_same_code_from_the_worker(monkeypatch) -> None:

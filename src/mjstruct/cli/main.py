@@ -123,20 +123,22 @@ def _on_sigterm(signum: int, frame: object) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     words = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(_command_in(words))
-    args = parser.parse_args(words)
+    # signals first: one landing while the parser is built is handled as any other
     previous = _install_sigterm()
+    command = _command_in(words)
     try:
+        args = build_parser(command).parse_args(words)
+        command = args.command
         check_outputs(args)  # links, loops, output onto input: before any work
         return int(args._run(args))
     except _Terminated:
         emit_error("mjstruct: terminated")
         return 143
     except MechanismError as exc:
-        emit_error(f"mjstruct {args.command}: {exc}")
+        emit_error(f"mjstruct {command}: {exc}")
         return 2
     except NumericalError as exc:
-        emit_error(f"mjstruct {args.command}: numerical trouble: {exc}")
+        emit_error(f"mjstruct {command}: numerical trouble: {exc}")
         return 1
     except KeyboardInterrupt:
         emit_error("mjstruct: interrupted")
@@ -144,7 +146,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         return 0
     except Exception as exc:  # an internal error still gets one line, not a traceback
-        emit_error(f"mjstruct {args.command}: internal error: {exc.__class__.__name__}: {exc}")
+        emit_error(f"mjstruct {command}: internal error: {exc.__class__.__name__}: {exc}")
         return 1
     finally:
         if previous is not None:

@@ -14,12 +14,18 @@ of them is an automorphism, and nauty's search over thousands of them takes minu
 vertices or more where some class of twins has :data:`TWINS_QUOTIENT` or more
 members, each class is replaced by one vertex coloured by its size; two graphs are
 isomorphic exactly when these quotients are (twins map to twins), so the code stays
-exact.  The rule depends only on the graph, so isomorphic chains always take the same
-path; smaller chains (every catalog and atlas chain) keep their codes.
+exact.  Parallel *chains* are the larger kind of twins: k binary links each joining
+links 0 and 1 through two joints (any path of vertices of degree two between the same
+two ends, with the same colours along it); they too are kept once with their number
+as a colour (:func:`chain_quotient`; 1500 such paths took nauty about a minute).  The
+rules depend only on the graph, so isomorphic chains always take the same path;
+smaller chains (every catalog and atlas chain) keep their codes.
 
-nauty runs in C and holds the interpreter: a large graph (:data:`WORKER_VERTICES`
-vertices or more) is put in canonical form in a worker process, so that Ctrl-C and
-SIGTERM stop the command at once (the worker is killed).
+nauty runs in C and holds the interpreter: a graph of :data:`WORKER_VERTICES`
+vertices or more is put in canonical form in a worker process, so that Ctrl-C and
+SIGTERM stop the command at once (the worker is killed); below, nauty takes at most
+a few tens of milliseconds on the graphs it finds hardest (a star of pendant links
+of that size: 0.03 s).
 
 References
 ----------
@@ -131,9 +137,10 @@ TWINS_QUOTIENT = 3
 #: the codes of small chains, the atlases' among them, stay as they were)
 QUOTIENT_VERTICES = 64
 #: graphs with this many vertices (links + joints) or more go to nauty in a worker
-#: process (about 2 ms to start; nauty takes milliseconds below, but may take minutes
-#: on a large symmetric graph, during which the interpreter receives no signal)
-WORKER_VERTICES = 2000
+#: process (10-20 ms to start; below, nauty takes at most a few tens of milliseconds
+#: on the hardest graphs measured, but may take minutes on a large symmetric graph,
+#: during which the interpreter receives no signal: benchmarks/bench_nauty_worker.py)
+WORKER_VERTICES = 400
 
 
 def twin_quotient(
@@ -182,6 +189,92 @@ def twin_quotient(
     return len(link_reps), q_joints, [classes[key] for key in order], sizes
 
 
+def chain_quotient(
+    n: int, joints: Sequence[Sequence[int]], colours: Sequence[Collection[int]]
+) -> tuple[int, list[list[int]], list[list[int]], str] | None:
+    """The graph with each class of parallel chains kept once, coloured by its size.
+
+    A *chain* is a path of vertices of degree two between two vertices of another
+    degree, its *ends* (the same vertex for a cycle through it).  Chains with the same
+    ends and the same colours along them (read from the lower end; a cycle either way)
+    form a class; every class of :data:`TWINS_QUOTIENT` or more is replaced by one of
+    its chains whose vertices are coloured by the class's size.  Returns ``(n, joints,
+    colours, sizes)`` as :func:`twin_quotient` does (``sizes`` names the colour
+    classes: original class, multiplicity and count), or None when no class is that
+    large.
+
+    Exact: two graphs are isomorphic (colours kept) exactly when their quotients are
+    (the classes of colours taken in the order of ``sizes``).  Chains are disjoint by
+    construction (their inner vertices have degree two, their ends do not), so the
+    members of a class are interchangeable, and an inner vertex is adjacent only to
+    its chain's neighbours or ends.  An isomorphism of the graphs maps chains to
+    chains and classes to classes of the same size; mapping each kept chain to the
+    image's kept chain (inner vertices in order) gives an isomorphism of the
+    quotients.  Conversely an isomorphism of the quotients maps the vertices coloured
+    with a size m >= 3 onto such vertices, hence each kept chain (a connected run of
+    them) onto a kept chain of the same size, colours along it and ends; the m
+    members of each class are then mapped member by member, the rest as the
+    quotients' map: an isomorphism of the graphs.
+
+    Five binary links each joining links 0 and 1 through two joints:
+
+    >>> joints = [[0, 2 + k] for k in range(5)] + [[2 + k, 1] for k in range(5)]
+    >>> chain_quotient(7, joints, [range(7), range(7, 17)])
+    (3, [[0, 2], [2, 1]], [[0, 1], [2], [3, 4]], 'p0x1:2.0x5:1.1x5:2')
+    """
+    p = len(joints)
+    colour_of = [0] * (n + p)
+    for c, members in enumerate(colours):
+        for v in members:
+            colour_of[v] = c
+    around: list[set[int]] = [set() for _ in range(n + p)]
+    for k, js in enumerate(joints):
+        for x in js:
+            around[n + k].add(x)
+            around[x].add(n + k)
+    inner = [len(a) == 2 for a in around]
+    seen = [False] * (n + p)
+    classes: dict[tuple[int, int, tuple[int, ...]], list[list[int]]] = {}
+    for u in range(n + p):
+        if inner[u]:
+            continue
+        for w in sorted(around[u]):
+            if not inner[w] or seen[w]:
+                continue
+            path, prev, cur = [], u, w
+            while inner[cur]:
+                seen[cur] = True
+                path.append(cur)
+                a, b = around[cur]
+                prev, cur = cur, (b if a == prev else a)
+            seq = tuple(colour_of[x] for x in path)
+            if cur < u or (cur == u and seq[::-1] < seq):
+                path.reverse()
+                seq = seq[::-1]
+            classes.setdefault((min(u, cur), max(u, cur), seq), []).append(path)
+    if not classes or max(len(c) for c in classes.values()) < TWINS_QUOTIENT:
+        return None
+    mult = [1] * (n + p)
+    dropped = [False] * (n + p)
+    for alike in classes.values():
+        if len(alike) >= TWINS_QUOTIENT:
+            for x in alike[0]:
+                mult[x] = len(alike)
+            for other in alike[1:]:
+                for x in other:
+                    dropped[x] = True
+    kept = [v for v in range(n + p) if not dropped[v]]  # links first, each in order
+    new = {v: i for i, v in enumerate(kept)}
+    n_new = sum(v < n for v in kept)
+    q_joints = [[new[x] for x in joints[v - n] if not dropped[x]] for v in kept if v >= n]
+    by_key: dict[tuple[int, int], list[int]] = {}
+    for v in kept:
+        by_key.setdefault((colour_of[v], mult[v]), []).append(new[v])
+    order = sorted(by_key)
+    sizes = "p" + ".".join(f"{c}x{m}:{len(by_key[c, m])}" for c, m in order)
+    return n_new, q_joints, [by_key[key] for key in order], sizes
+
+
 def canonical_code(m: Mechanism, level: Level = "chain") -> str:
     """Stable string identifying ``m`` up to isomorphism at the given colour level.
 
@@ -204,8 +297,8 @@ def certificate_of(
     n: int, joints: Sequence[Sequence[int]], colours: Sequence[Collection[int]]
 ) -> tuple[str, bytes]:
     """The colour-class sizes and nauty's certificate behind a canonical code: of the
-    twin quotient where the rule applies (see the module text), in a worker process
-    for a large graph.
+    twin and chain quotients where the rule applies (see the module text), in a
+    worker process for a large graph.
 
     >>> sizes, cert = certificate_of(3, [[0, 1], [1, 2], [2, 0]], [range(3), range(3, 6)])
     >>> sizes, len(cert)
@@ -216,6 +309,10 @@ def certificate_of(
         quotient = twin_quotient(n, joints, colours)
         if quotient is not None:
             n, joints, colours, sizes = quotient
+        chains = chain_quotient(n, joints, colours)
+        if chains is not None:  # the classes' meaning: the twins' sizes, then its own
+            n, joints, colours, more = chains
+            sizes = f"{sizes}|{more}"
     cert = nauty_call("certificate", n, joints, colours)
     assert isinstance(cert, bytes)
     return sizes, cert
@@ -265,37 +362,59 @@ def _may_fork() -> bool:
     )
 
 
-def _worker(send: Any, args: tuple[Any, ...]) -> None:
+def _worker(send: Any, args: tuple[Any, ...], parent: int) -> None:
     import signal
 
     # the parent decides: a signal to the group must not make the worker raise
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _die_with_parent(parent)
     send.send(_nauty(*args))
     send.close()
 
 
+def _die_with_parent(parent: int) -> None:
+    """Ask Linux to kill this process when its parent ends, whatever ends it (even
+    SIGKILL, where the parent's cleanup cannot run); elsewhere nothing."""
+    import ctypes
+    import os
+    import signal
+    import sys
+
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        # the running program's symbols: the C library's prctl
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # pragma: no cover - no prctl: the parent kills it
+        return
+    if os.getppid() != parent:  # the parent ended before the request: end now
+        os._exit(1)
+
+
 def _in_worker(args: tuple[Any, ...]) -> bytes | list[int]:
     """Run :func:`_nauty` in a child process; the parent waits where signals arrive
-    and kills the child on any exception (Ctrl-C, SIGTERM)."""
+    and kills the child on any exception (Ctrl-C, SIGTERM), wherever it lands."""
     import multiprocessing
+    import os
 
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    child = ctx.Process(target=_worker, args=(send, args), daemon=True)
-    child.start()
-    send.close()
+    child = ctx.Process(target=_worker, args=(send, args, os.getpid()), daemon=True)
     try:
+        child.start()
+        send.close()
         # a blocking receive is interrupted by a signal, whose handler raises here
         out: bytes | list[int] = recv.recv()
         return out
     except EOFError:
         raise RuntimeError(f"nauty worker ended with status {child.exitcode}") from None
     finally:
+        send.close()
         recv.close()
-        if child.is_alive():
+        if child.pid is not None:  # started (a signal may land inside start())
             child.kill()
-        child.join()
+            child.join()
 
 
 def is_isomorphic(a: Mechanism, b: Mechanism, level: Level = "chain") -> bool:

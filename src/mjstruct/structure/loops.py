@@ -18,14 +18,33 @@ planar embeddings with different face sizes.  Rule, in order:
 
 A non-planar chain has no [L]: :func:`loop_assortment` returns ``None``.
 
-Parallel joints (k joints joining the same two links; likewise k binary links in the
-same two joints) are drawn side by side: k − 1 loops of two links.  The face search
-keeps two of each class (their two-link loop, which may be the chain's only one) and
-adds the other k − 2 as two-link loops.  (Any drawing is the two-joint drawing with
-k − 2 joints added in its faces; each addition splits a
-face of s links into two of s1 + s2 = s + 2, and {s1, s2} is never lexicographically
-below {2, s}, so side by side is minimal.)  Thousands of parallel joints then cost
-what one does, where every rotation of them was a case before.
+Parallel chains are drawn side by side.  A *chain* is a path of vertices of degree
+two between two different vertices of another degree (its ends): a joint between two
+links, a binary link between two joints, or a binary link joining links 0 and 1
+through two joints.  Two chains with the same ends and the same length l (in edges of
+the link–joint graph) bound a face of l links (a boundary walk of 2l edges).  Of k >= 3
+such chains the face search keeps two, and the minimal [L] of the whole is that of the
+chain with two of them plus k − 2 loops of l links (k parallel joints: k − 1 loops of
+two links in all; k binary links between links 0 and 1: k − 1 loops of four).
+Thousands of parallel joints or paths then cost what one does, where every rotation
+of them was a case before.
+
+Proof.  Drawing a chain beside one of its class, inside the face along that one, adds
+a face of l links and leaves the other faces as they were: the minimum is at most the
+claimed one.  Conversely, in any drawing the k chains cut the plane into k regions
+between consecutive ones, and the rest of the graph lies in them; a region with
+nothing in it is a face of l links.  Where two regions are not empty, move what one
+holds into the other, beside what is there: the two faces that met along a chain,
+of sizes (a + l)/2 and (b + l)/2 (a, b the walks of the two parts facing each other
+from end to end), become one face of (a + b)/2 and an empty region of l.  The sums
+agree, and when a and b are both at most l or both at least l the smaller new size
+is at most the smaller old one, so the sorted sizes do not grow lexicographically.
+Of three non-empty regions two always have facing sides that agree so (a part with
+no way from end to end counts as long on both its sides; either part may be
+mirrored).  Repeating leaves at most two non-empty regions.  Then removing, one at a
+time, k − 2 chains beside an empty region removes one face of l links each and
+changes no other face (a chain of the same length takes its place along the region
+beyond); what remains is a drawing of the chain with two of them.
 
 References
 ----------
@@ -191,48 +210,62 @@ def _canonical_faces(g: Adjacency | Mechanism) -> tuple[int, ...] | None:
     return tuple(sorted(sizes))
 
 
-def without_parallel(g: Adjacency) -> tuple[dict[Any, tuple[Any, ...]], int]:
-    """``g`` with every class of parallel degree-2 vertices (joints joining the same two
-    links, binary links in the same two joints) kept twice, and the number removed:
-    each is one more loop of two links in the minimal drawing.
+def without_parallel(g: Adjacency) -> tuple[dict[Any, tuple[Any, ...]], tuple[int, ...]]:
+    """``g`` with every class of parallel chains (see the module text: paths of vertices
+    of degree two with the same two ends and length) kept twice, and the size of the
+    loop that each removed chain is in the minimal drawing (its length in edges).
 
     >>> g = {"a": ("x", "y", "z"), "b": ("x", "y", "z"), "x": ("a", "b"),
     ...      "y": ("a", "b"), "z": ("a", "b")}
     >>> without_parallel(g)
-    ({'a': ('x', 'y'), 'b': ('x', 'y'), 'x': ('a', 'b'), 'y': ('a', 'b')}, 1)
+    ({'a': ('x', 'y'), 'b': ('x', 'y'), 'x': ('a', 'b'), 'y': ('a', 'b')}, (2,))
     """
-    # two of each class stay: they keep the class's loop (a digon) in the graph, so a
-    # chain whose only loops are parallel joints still has its faces
-    kept: dict[frozenset[Any], int] = {}
+    inner = {v for v, around in g.items() if len(around) == 2}
+    seen: set[Any] = set()
+    classes: dict[tuple[frozenset[Any], int], int] = {}
     dropped: set[Any] = set()
-    for v, around in g.items():
-        if len(around) == 2:
-            key = frozenset(around)
-            kept[key] = kept.get(key, 0) + 1
-            if kept[key] > 2:
-                dropped.add(v)
+    faces: list[int] = []
+    for u, around in g.items():
+        if u in inner:
+            continue
+        for w in around:
+            if w not in inner or w in seen:
+                continue
+            path, prev, cur = [], u, w
+            while cur in inner:
+                seen.add(cur)
+                path.append(cur)
+                a, b = g[cur]
+                prev, cur = cur, (b if a == prev else a)
+            if cur == u:
+                continue  # a cycle through one vertex: not a chain between two
+            key = (frozenset((u, cur)), len(path) + 1)
+            # two of each class stay: they keep the class's loop in the graph, so a
+            # chain whose only loops are parallel chains still has its faces
+            classes[key] = classes.get(key, 0) + 1
+            if classes[key] > 2:
+                dropped.update(path)
+                faces.append(len(path) + 1)
     if not dropped:
-        return dict(g), 0
+        return dict(g), ()
     out = {
         v: tuple(x for x in around if x not in dropped)
         for v, around in g.items()
         if v not in dropped
     }
-    return out, len(dropped)
+    return out, tuple(faces)
 
 
 def loop_assortment(m: Mechanism) -> LoopAssortment | None:
     """[L] of a planar chain (see the module text for which drawing); None if not planar."""
     expect_mechanism(m)
-    g, digons = without_parallel(m.adjacency)
+    g, parallel = without_parallel(m.adjacency)
     try:
         exact = _minimal_faces(g)
     except _TooMany:
         sizes = _canonical_faces(g)
         if sizes is None:
             return None
-        return LoopAssortment(tuple(sorted(sizes + (2,) * digons)), "canonical")
+        return LoopAssortment(tuple(sorted(sizes + parallel)), "canonical")
     # exhaustive: no genus-0 rotation system means the graph is not planar
-    return (
-        None if exact is None else LoopAssortment(tuple(sorted(exact + (2,) * digons)), "minimal")
-    )
+    return None if exact is None else LoopAssortment(tuple(sorted(exact + parallel)), "minimal")
