@@ -18,6 +18,7 @@ Run: ``python benchmarks/bench_nauty_worker.py [REPEAT]`` (default 7)
 
 from __future__ import annotations
 
+import itertools
 import sys
 import time
 from collections.abc import Callable
@@ -60,7 +61,7 @@ def paths(count: int, length: int = 1) -> Graph:
     for _ in range(count):
         chain = [0, *range(n, n + length), 1]
         n += length
-        joints += [[a, b] for a, b in zip(chain, chain[1:], strict=False)]
+        joints += [[a, b] for a, b in itertools.pairwise(chain)]
     return n, joints
 
 
