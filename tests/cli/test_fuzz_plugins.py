@@ -72,7 +72,7 @@ ALL_PATHS = [p for p in field_paths(BASE) if p]
 DYNAMICS_PATHS = [p for p in ALL_PATHS if p[0] in DYNAMICS_KEYS]
 
 
-class _Hang(Exception):
+class _Hang(BaseException):  # not an Exception: main's internal-error net must not catch it
     pass
 
 
