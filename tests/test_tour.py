@@ -40,21 +40,28 @@ def execute(nb: Any, where: Path) -> Any:
 
 
 def substance(nb: Any) -> list[list[str]]:
-    """Per code cell, what it shows: each text output (stripped of trailing spaces) and
-    ``"<picture>"`` for each image; the images' bytes differ with the library versions."""
+    """Per code cell, what it shows: each text output (stripped of trailing spaces and
+    blank lines) and ``"<picture>"`` for each image; the images' bytes differ with the
+    library versions."""
     out = []
     for cell in nb.cells:
         if cell.cell_type != "code":
             continue
         shown: list[str] = []
+        streams: list[str] = []  # raw text of the stream now being read
         for o in cell.outputs:
             if o.output_type == "stream":
-                text = "\n".join(x.rstrip() for x in o.text.splitlines())
+                # one stream arrives in pieces cut anywhere (flush timing): join the raw
+                # text first, then normalise the lines
                 if shown and shown[-1].startswith(f"{o.name}: "):
-                    shown[-1] += "\n" + text  # one stream may arrive in several pieces
+                    streams[-1] += o.text
                 else:
-                    shown.append(f"{o.name}: {text}")
-            elif "image/png" in o.get("data", {}):
+                    shown.append(f"{o.name}: ")
+                    streams.append(o.text)
+                lines = [x.rstrip() for x in streams[-1].splitlines()]
+                shown[-1] = f"{o.name}: " + "\n".join(x for x in lines if x)
+                continue
+            if "image/png" in o.get("data", {}):
                 shown.append("<picture>")
             elif "text/plain" in o.get("data", {}):
                 shown.append(o.data["text/plain"])
