@@ -20,7 +20,9 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import signal
 import sys
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from functools import partial
@@ -55,7 +57,21 @@ _C1 = re.compile("[\x7f-\x9f]")  # json.dumps leaves these raw with ensure_ascii
 def emit_json(obj: Any) -> None:
     """One JSON object; no raw control character reaches the terminal."""
     text = _C1.sub(lambda c: f"\\u{ord(c.group()):04x}", dumps(obj))
-    sys.stdout.write(text + "\n")
+    _write_whole(text + "\n")
+
+
+def _write_whole(text: str) -> None:
+    """Standard output written whole: a SIGINT or SIGTERM arriving meanwhile waits until
+    the text is out (a reader never gets half a JSON object), then stops the command."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    in_main = threading.current_thread() is threading.main_thread()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held) if in_main else None
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    finally:
+        if old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 _CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
@@ -83,7 +99,7 @@ def emit_error(text: str) -> None:
 
 def emit_text(text: str) -> None:
     """Text output: names from files and caches cannot drive the terminal."""
-    sys.stdout.write(printable(text.rstrip("\n")) + "\n")
+    _write_whole(printable(text.rstrip("\n")) + "\n")
 
 
 @contextmanager
