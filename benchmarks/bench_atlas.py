@@ -7,20 +7,29 @@ is example 5 of [MJ structure 2020] (docs/references.md).
 With ``--geng`` it races the simple-joint atlas (2 workers) against nauty's ``geng``
 (Debian package ``nauty``, command ``nauty-geng``; pynauty ships no geng) generating
 every connected graph with n vertices, 3(n-1)/2 - F/2 edges and minimum degree 2,
-followed by a vectorised brute-force admissibility filter (every link subset S,
-``3(|S|-1) - 2 e(S) >= 1``: one matrix product per batch of graphs), counts compared.
-The brute force grows as 2^n: n <= 12 (at 14, geng's generation alone is timed).
+streamed into a vectorised admissibility filter on 2 processes (every link subset S
+of the sizes that can be a smallest rigid one, ``3(|S|-1) - 2 e(S) >= 1``: one
+float32 matrix product per subset size and batch of graphs, sizes smallest first),
+counts compared (``--verify``: the chains too); geng's generation alone is timed too.
+It says so and skips the race when geng is not installed.
 
-Run: ``python benchmarks/bench_atlas.py [--repeat R] [--pyslvs PYTHON] [--geng]``.  Prints the
-median wall time of each case, the count found, and the ratio to the target; with
-``--pyslvs`` also times pyslvs's structural synthesis (run in that interpreter, e.g. a
-separate venv) on the same simple-joint cases, side by side in the same run.
+With ``--mj12`` it runs the MJ atlas F = 1, 12 links on 2 workers in fresh processes
+and samples the memory of the process tree.  ``--goals`` runs both goals (MJ atlas at
+12 links: <= 60 s wall, <= 300 MB peak Σ RSS of the tree; simple-joint atlas at 14
+links within 1.2x geng + filter) side by side and prints each ratio with PASS/FAIL.
+
+Run: ``python benchmarks/bench_atlas.py [--repeat R] [--pyslvs PYTHON] [--geng]
+[--mj12] [--goals]``.  Without those it prints the median wall time of each case, the
+count found, and the ratio to the target; with ``--pyslvs`` also times pyslvs's
+structural synthesis (run in that interpreter, e.g. a separate venv) on the same
+simple-joint cases, side by side in the same run.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 from functools import partial
 from pathlib import Path
@@ -73,11 +82,20 @@ def main() -> None:
     ap.add_argument("--sizes", default="10,12,14", help="links for --geng (F = 1)")
     ap.add_argument("--verify", action="store_true", help="--geng: compare the chains too")
     ap.add_argument("--mj12", action="store_true", help="MJ atlas F=1 n=12: time and memory")
+    ap.add_argument("--goals", action="store_true", help="both atlas goals, PASS/FAIL")
     args = ap.parse_args()
+    if args.goals:
+        goals(args.repeat)
+        return
     if args.geng:
         race_geng(args.repeat, tuple(int(x) for x in args.sizes.split(",")), args.verify)
     if args.mj12:
-        run_mj12(args.repeat)
+        wall, memory = run_mj12(args.repeat)
+        print(
+            f"median {wall:.1f} s (goal {GOAL_MJ12_S:.0f} s: ratio {wall / GOAL_MJ12_S:.2f}), "
+            f"peak Σ RSS {memory:.0f} MB (goal {GOAL_MJ12_MB:.0f} MB: "
+            f"ratio {memory / GOAL_MJ12_MB:.2f})"
+        )
     if args.geng or args.mj12:
         return
     print(f"{'case':<26} {'median s':>9} {'count':>7} {'target s':>9} {'target/median':>14}")
@@ -134,53 +152,61 @@ GOAL_MJ12_S = 60.0  # F = 1, 12 links with MJs, 2 workers
 GOAL_MJ12_MB = 300.0
 
 
-def _rigid_test(n: int, F: int) -> tuple[object, object]:
-    """(inside, need) for the vertex subsets the filter tests, as float32 matrices.
+def _rigid_tests(n: int, F: int) -> list[tuple[object, float]]:
+    """Per subset size to test, smallest first: (inside, need), ``inside`` the float32
+    matrix (vertex pair, subset) of the pairs inside each subset of that size.
 
     A subset S of links is rigid when 2 e(S) >= 3 |S| - 3 (e(S): joints inside S).
-    In geng's output (simple, triangle-free, minimum degree 2) |S| <= 4 never is, and
-    for F = 1 (2e = 3n - 4) neither are |S| >= n - 2 (two removed links take >= 3
-    joints with them): the filter tests the sizes between, all of them.
+    Only the sizes that can hold a smallest rigid subset are tested:
+
+    - in geng's output (simple, triangle-free, minimum degree 2) |S| <= 4 never is
+      rigid, and for F = 1 (2e = 3n - 4) neither is |S| >= n - 2 (two removed links
+      take >= 3 joints with them);
+    - an even |S| is never the smallest: 2 e(S) >= 3|S| - 2 there (3|S| - 3 is odd), so
+      some link of S has at most 2 joints inside S, and S without it is rigid too.
     """
     from itertools import combinations
 
     import numpy as np
 
     top = n - 3 if F == 1 else n - 1
-    subsets = [
-        sum(1 << v for v in c) for s in range(5, top + 1) for c in combinations(range(n), s)
-    ]
-    member = (np.array(subsets)[:, None] >> np.arange(n)) & 1
     pairs = [(i, j) for j in range(n) for i in range(j)]  # graph6's bit order
-    inside = np.array([member[:, i] & member[:, j] for i, j in pairs], dtype=np.float32)
-    need = ((3 * member.sum(axis=1) - 3) / 2).astype(np.float32)
-    return inside, need
+    out = []
+    for size in range(5, top + 1, 2):
+        subsets = [sum(1 << v for v in c) for c in combinations(range(n), size)]
+        member = (np.array(subsets)[:, None] >> np.arange(n)) & 1
+        inside = np.array([member[:, i] & member[:, j] for i, j in pairs], dtype=np.float32)
+        out.append((inside, (3 * size - 3) / 2))
+    return out
 
 
-_TEST: dict[tuple[int, int], tuple[object, object]] = {}
+_TESTS: dict[tuple[int, int], list[tuple[object, float]]] = {}
 
 
 def _filter_block(job: tuple[int, int, bytes, bool]) -> tuple[int, int, list[bytes]]:
-    """(graphs, admissible ones, their graph6 lines if asked) of a block of geng's output."""
+    """(graphs, admissible ones, their graph6 lines if asked) of a block of geng's
+    output: the subset sizes smallest first, each on the graphs no smaller size
+    rejected (one float32 matrix product per size and 1024 graphs)."""
     import numpy as np
 
     n, F, block, keep = job
-    if (n, F) not in _TEST:
-        _TEST[n, F] = _rigid_test(n, F)
-    inside, need = _TEST[n, F]
+    if (n, F) not in _TESTS:
+        _TESTS[n, F] = _rigid_tests(n, F)
     raw = np.frombuffer(block, dtype=np.uint8)
     width = block.index(b"\n") + 1
     raw = raw.reshape(-1, width)
     six = raw[:, 1:-1] - 63  # graph6: n, then the upper triangle, 6 bits a byte
     bits = np.unpackbits(six[:, :, None], axis=2)[:, :, 2:].reshape(len(raw), -1)
     X = bits[:, : n * (n - 1) // 2].astype(np.float32)
-    ok = np.ones(len(raw), dtype=bool)
-    with np.errstate(all="ignore"):
-        for lo in range(0, len(raw), 1024):
-            joints_inside = X[lo : lo + 1024] @ inside  # e(S), every graph and subset
-            ok[lo : lo + 1024] = ~(joints_inside >= need - 0.25).any(axis=1)
-    lines = [bytes(raw[k, :-1]) for k in np.nonzero(ok)[0]] if keep else []
-    return len(raw), int(ok.sum()), lines
+    alive = np.arange(len(raw))
+    for inside, need in _TESTS[n, F]:
+        rigid = np.zeros(len(alive), dtype=bool)
+        for lo in range(0, len(alive), 1024):
+            joints_inside = X[alive[lo : lo + 1024]] @ inside  # e(S), graphs x subsets
+            rigid[lo : lo + 1024] = (joints_inside >= need - 0.25).any(axis=1)  # type: ignore[operator]
+        alive = alive[~rigid]
+    lines = [bytes(raw[k, :-1]) for k in alive] if keep else []
+    return len(raw), len(alive), lines
 
 
 def _one_blas_thread() -> None:
@@ -193,9 +219,8 @@ def geng_admissible(F: int, n: int, workers: int = 2, keep: bool = False):  # ty
     """The independent enumerator: geng generates the simple-joint candidates (connected,
     biconnected -C: F = 1 chains are never fractionated; triangle-free -t: a triangle
     is a rigid sub-chain; minimum degree 2; 3(n-1)/2 - F/2 joints), a pool of
-    ``workers`` processes filters geng's stream block by block (one float32 matrix
-    product per 1024 graphs).  Returns (graphs, admissible, their graph6 lines if
-    ``keep``)."""
+    ``workers`` processes filters geng's stream block by block (:func:`_filter_block`).
+    Returns (graphs, admissible, their graph6 lines if ``keep``)."""
     import multiprocessing
 
     e = (3 * (n - 1) - F) // 2
@@ -227,7 +252,11 @@ def _graph6_joints(line: bytes, n: int) -> list[list[int]]:
     return [[i, j] for (i, j), b in zip(pairs, bits, strict=False) if b == "1"]
 
 
-def race_geng(repeat: int, sizes: tuple[int, ...], verify: bool) -> None:
+def race_geng(
+    repeat: int, sizes: tuple[int, ...], verify: bool, clock: str = "wall"
+) -> float | None:
+    """Race the atlas against geng + filter at each size; the ratio at the largest
+    size (None when geng is absent)."""
     import shutil
     import time
 
@@ -235,15 +264,16 @@ def race_geng(repeat: int, sizes: tuple[int, ...], verify: bool) -> None:
     from timing import race
 
     if shutil.which(GENG) is None:
-        print(f"{GENG}: not installed (apt-get install nauty): nothing to race")
-        return
+        print(f"{GENG}: not installed (apt-get install nauty): the geng race is skipped")
+        return None
     print(f"simple-joint atlas, F = 1, wall time, medians of {repeat} rotations (load {_load()}):")
     print("  mjstruct: atlas(1, n, workers=2)")
     print("  peer: geng -Ct -d2 streaming into a vectorised rigid-subset filter on 2 processes")
     print(
-        f"{'n':>3} {'mjstruct s':>11} {'geng+filter s':>14} {'ratio':>6} {'goal':>5} "
-        f"{'chains':>8} {'peer':>8} {'geng graphs':>12}"
+        f"{'n':>3} {'mjstruct s':>11} {'geng+filter s':>14} {'geng alone s':>13} {'ratio':>6} "
+        f"{'goal':>5} {'chains':>8} {'peer':>8} {'geng graphs':>12}"
     )
+    ratio = None
     for n in sizes:
         got: dict[str, object] = {}
 
@@ -253,15 +283,22 @@ def race_geng(repeat: int, sizes: tuple[int, ...], verify: bool) -> None:
         def peer(n: int = n, got: dict[str, object] = got) -> None:
             got["peer"] = geng_admissible(1, n, workers=2)
 
-        t_ours, t_peer = race([ours, peer], repeat)
+        def generation(n: int = n) -> None:
+            e = (3 * (n - 1) - 1) // 2
+            subprocess.run([GENG, "-Ctuq", "-d2", str(n), f"{e}:{e}"], check=True)
+
+        t_ours, t_peer, t_geng = race([ours, peer, generation], repeat)
         a = got["ours"]
         graphs, count, _ = got["peer"]  # type: ignore[misc]
+        ratio = t_ours / t_peer
         goal = f"{GOAL_GENG:5.1f}" if n == max(sizes) else f"{'-':>5}"
         flag = "" if a.count == count else "  COUNTS DIFFER"  # type: ignore[attr-defined]
         print(
-            f"{n:3d} {t_ours:11.2f} {t_peer:14.2f} {t_ours / t_peer:6.2f} {goal} "
+            f"{n:3d} {t_ours:11.2f} {t_peer:14.2f} {t_geng:13.2f} {ratio:6.2f} {goal} "
             f"{a.count:8d} {count:8d} {graphs:12d}{flag}"  # type: ignore[attr-defined]
         )
+        if flag:
+            ratio = float("inf")
         if verify:
             t0 = time.perf_counter()
             _, _, lines = geng_admissible(1, n, workers=2, keep=True)
@@ -272,6 +309,9 @@ def race_geng(repeat: int, sizes: tuple[int, ...], verify: bool) -> None:
                 f"    verified: geng's {len(theirs)} admissible graphs, canonical codes by "
                 f"chain_code: {same} ({time.perf_counter() - t0:.0f} s)"
             )
+            if theirs != ours_codes:
+                ratio = float("inf")
+    return ratio
 
 
 def _load() -> str:
@@ -314,40 +354,64 @@ def _tree_memory(pid: int) -> tuple[float, float]:
     return pss, rss
 
 
-def run_mj12(repeat: int) -> None:
+def run_mj12(repeat: int) -> tuple[float, float]:
     """The MJ atlas F = 1, 12 links, 2 workers, each run in a fresh process whose tree's
     memory is sampled every 20 ms: wall time, peak Σ PSS (each shared page counted
-    once, split between the processes sharing it), and each process's peak RSS."""
+    once, split between the processes sharing it), peak Σ RSS (shared pages counted
+    in every process: an upper bound), and the peak RSS of the parent and of the
+    largest worker (getrusage).  Returns the medians of (wall s, peak Σ RSS MB)."""
     import statistics
     import sys
     import time
 
     print(f"MJ atlas F = 1, n = 12, 2 workers, {repeat} runs in fresh processes (load {_load()}):")
     print(
-        f"{'run':>4} {'wall s':>7} {'cpu s':>6} {'chains':>7} {'peak PSS MB':>12} "
-        f"{'parent RSS':>11} {'worker RSS':>11}"
+        f"{'run':>4} {'wall s':>7} {'cpu s':>6} {'chains':>7} {'peak ΣPSS MB':>13} "
+        f"{'peak ΣRSS MB':>13} {'parent RSS':>11} {'worker RSS':>11}"
     )
     walls, peaks = [], []
     for k in range(repeat):
         child = subprocess.Popen(
             [sys.executable, "-c", MJ12_CHILD], stdout=subprocess.PIPE, text=True
         )
-        peak = 0.0
+        peak_pss = peak_rss = 0.0
         while child.poll() is None:
-            peak = max(peak, _tree_memory(child.pid)[0])
+            pss, rss = _tree_memory(child.pid)
+            peak_pss, peak_rss = max(peak_pss, pss), max(peak_rss, rss)
             time.sleep(0.02)
         r = json.loads(child.stdout.read())  # type: ignore[union-attr]
         walls.append(r["seconds"])
-        peaks.append(peak)
+        peaks.append(peak_rss)
         print(
-            f"{k + 1:4d} {r['seconds']:7.1f} {r['cpu']:6.1f} {r['count']:7d} {peak:12.0f} "
-            f"{r['parent_mb']:11.0f} {r['worker_mb']:11.0f}"
+            f"{k + 1:4d} {r['seconds']:7.1f} {r['cpu']:6.1f} {r['count']:7d} {peak_pss:13.0f} "
+            f"{peak_rss:13.0f} {r['parent_mb']:11.0f} {r['worker_mb']:11.0f}"
         )
-    t, m = statistics.median(walls), statistics.median(peaks)
-    print(
-        f"median {t:.1f} s (goal {GOAL_MJ12_S:.0f} s: ratio {t / GOAL_MJ12_S:.2f}), "
-        f"peak PSS {m:.0f} MB (goal {GOAL_MJ12_MB:.0f} MB: ratio {m / GOAL_MJ12_MB:.2f})"
-    )
+    return statistics.median(walls), statistics.median(peaks)
+
+
+def goals(repeat: int) -> None:
+    """Both atlas goals, measured in one run, each with its ratio and verdict."""
+    import platform
+
+    print(f"atlas goals, {platform.node()}, {os.cpu_count()} cores, load {_load()}\n")
+    wall, memory = run_mj12(repeat)
+    print()
+    geng = race_geng(repeat, (14,), verify=False)
+    rows = [
+        ("MJ atlas F=1 n=12, 2 workers: wall s", wall, GOAL_MJ12_S),
+        ("  same: peak memory, Σ RSS of the tree MB", memory, GOAL_MJ12_MB),
+    ]
+    print(f"\n{'goal':<48} {'measured':>9} {'limit':>7} {'ratio':>6}  verdict")
+    for label, value, limit in rows:
+        verdict = "PASS" if value <= limit else "FAIL"
+        print(f"{label:<48} {value:9.1f} {limit:7.1f} {value / limit:6.2f}  {verdict}")
+    label = "SJ atlas F=1 n=14, 2 workers / geng+filter"
+    if geng is None:
+        print(f"{label:<48} {'-':>9} {GOAL_GENG:7.2f} {'-':>6}  SKIPPED (no {GENG})")
+    else:
+        verdict = "PASS" if geng <= GOAL_GENG else "FAIL"
+        print(f"{label:<48} {geng:9.2f} {GOAL_GENG:7.2f} {geng / GOAL_GENG:6.2f}  {verdict}")
+    print(f"(load at the end {_load()})")
 
 
 if __name__ == "__main__":
