@@ -262,8 +262,47 @@ def _return_free_memory() -> None:
         _LIBC[0](0)
 
 
+@dataclass(frozen=True)
+class TaskChains:
+    """The chains of one task, compact for sending from a worker to the parent: what
+    the task fixes once, then per chain its code (sorted; one string, a line each),
+    joints, and planar/fractionated flags (one byte each: 2 planar + fractionated).
+
+    Pickling a list of :class:`Chain` costs about as much as labelling the chains;
+    this form pickles in a few milliseconds, and the parent makes the chains.
+    """
+
+    n: int
+    LA: tuple[int, ...]
+    MJA: tuple[int, ...]
+    V: int
+    K: int
+    F: int
+    codes: str
+    joints: list[Joints]
+    flags: bytes
+
+    def chains(self) -> list[Chain]:
+        """The chains, sorted by code."""
+        if not self.joints:
+            return []
+        n, la, mja, V, K, F = self.n, self.LA, self.MJA, self.V, self.K, self.F
+        return [
+            Chain(code, n, joints, la, mja, V, K, F, flag > 1, flag & 1 == 1)
+            for code, joints, flag in zip(
+                self.codes.split("\n"), self.joints, self.flags, strict=True
+            )
+        ]
+
+
 def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]:
-    """Every admissible chain on the contracted graphs of one branch-vertex multiset."""
+    """Every admissible chain on the contracted graphs of one branch-vertex multiset,
+    sorted by code (the task fixes V, [MJA] and [LA])."""
+    return _task_compact(task).chains()
+
+
+def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains:
+    """:func:`_task_chains` as :class:`TaskChains` (what a worker sends back)."""
     from mjstruct.synthesis.distributions import distributions_of
     from mjstruct.synthesis.expansion import expand_rows, labelled_chains
     from mjstruct.synthesis.parallel import collection_paused
@@ -276,26 +315,32 @@ def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]
     # collector paused; the planarity test (networkx: cycles) runs between them
     with _one_blas_thread(), collection_paused():
         found = [(cg, rows) for cg, rows in distributions_of(graphs, binaries) if len(rows)]
-    flags = [(cg.is_planar(), cg.is_fractionated()) for cg, _ in found]
-    out: list[Chain] = []
+    kinds = [2 * cg.is_planar() + cg.is_fractionated() for cg, _ in found]
+    labelled: list[tuple[str, Joints, int]] = []
     shared: dict[tuple[int, int], dict[int, tuple[int, ...]]] = {}  # a tuple per joint
+    la: tuple[int, ...] = ()
+    mja: tuple[int, ...] = ()
+    V = K = 0
     with collection_paused():
-        for (cg, rows), (planar, frac) in zip(found, flags, strict=True):
+        for (cg, rows), kind in zip(found, kinds, strict=True):
             chains = expand_rows(cg, rows, binaries)
-            nn, first = chains.n, chains.joints(0)
-            la, mja = _assortments(nn, first)  # the task fixes them
+            first = chains.joints(0)
+            la, mja = _assortments(chains.n, first)  # the task fixes them
             V = sum((k + 1) * nu for k, nu in enumerate(mja))
-            K = sum(len(j) - 1 for j in first) - nn + 1
-            for code, canon in labelled_chains(chains, shared):
-                out.append(Chain(code, nn, canon, la, mja, V, K, F, planar, frac))
-        # the task fixes V, [MJA] and [LA]: sorted by code here, the caller only
-        # orders the tasks (in the workers, not in the parent)
-        out.sort(key=_code_of_chain)
-    return out
-
-
-def _code_of_chain(chain: Chain) -> str:
-    return chain.canonical
+            K = sum(len(j) - 1 for j in first) - chains.n + 1
+            labelled.extend((code, canon, kind) for code, canon in labelled_chains(chains, shared))
+        labelled.sort()  # by code (codes differ)
+    return TaskChains(
+        n,
+        la,
+        mja,
+        V,
+        K,
+        F,
+        "\n".join([code for code, _, _ in labelled]),
+        [joints for _, joints, _ in labelled],
+        bytes([kind for _, _, kind in labelled]),
+    )
 
 
 def _cycle(n: int, F: int) -> Chain:
@@ -374,11 +419,14 @@ def atlas(
     done = [
         c
         for c in run_tasks(
-            _task_chains, tasks, workers=workers, progress=progress, scheduler=scheduler
+            _task_compact, tasks, workers=workers, progress=progress, scheduler=scheduler
         )
-        if c
+        if c.joints
     ]
-    done.sort(key=lambda chains: chains[0].sort_key())
-    for chains in done:
-        result.chains.extend(chains)
+    done.sort(key=lambda c: (c.V, c.MJA, c.LA))
+    from mjstruct.synthesis.parallel import collection_paused
+
+    with collection_paused():  # many objects, no cycles
+        for compact in done:
+            result.chains.extend(compact.chains())
     return result
