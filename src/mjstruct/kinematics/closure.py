@@ -72,6 +72,7 @@ from mjstruct.kinematics.closure_newton import (
     tangent,
 )
 from mjstruct.kinematics.closure_path import ClosurePath, hermite
+from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import NEWTON_TOL, STALL_ERROR, STATION_TOL
 from mjstruct.typing import BoolArray, FloatArray
@@ -138,6 +139,7 @@ def close(
     maxiter: int = 30,
     reseed: bool = True,
     order: int = 2,
+    keep: list[tuple[Evaluation, Modes | None]] | None = None,
 ) -> Closure:
     """Solve the closure unknowns on frames ``q`` (frames × drivers), then their derivatives.
 
@@ -160,6 +162,12 @@ def close(
     from the reference the other way (:func:`_reseed`); ``reseeded`` lists them.
     ``order`` 2 gives t''; below 2, ``t2`` is NaN (t' is always computed: the
     branch-jump test reads it).
+
+    ``keep``: where every frame closed in one run of Newton (nothing reseeded, none
+    at the reference), the evaluation of order 2 that gave t'' (at ``t`` and ``t1``,
+    ``t2`` = 0, with the steps' centres kept) and the modes it ran in are appended to
+    it: an evaluation of the whole plan on the frames starts from its positions and
+    first derivatives (:func:`~mjstruct.kinematics.evaluate.evaluate`'s ``lower``).
     """
     k = model.plan.unknowns
     q_ref = model.q_ref
@@ -185,9 +193,12 @@ def close(
     reached = path.arc[1:] < gap
     # (Newton's rounds from the second also give dt/dτ: t' costs no evaluation more)
     t1: FloatArray | None
+    # Newton's last evaluation, when it was at every frame's final t (its positions
+    # start the evaluation of t'')
+    last: list[Evaluation] | None = [] if order >= 2 else None
     if reached.all():
         t, err, iters, ok, J, t1 = newton_with_tangent(
-            model, q, guess, K, tol, maxiter, only, rate
+            model, q, guess, K, tol, maxiter, only, rate, last
         )
     else:
         r = np.flatnonzero(reached)
@@ -235,7 +246,13 @@ def close(
             rate,
             only,
         )
-    t2 = curvature(model, q, t, t1, rate, K, J, only) if order >= 2 else np.full_like(t, np.nan)
+    held: list[Evaluation] = []
+    if order >= 2:
+        every = bool(ok.all())
+        lower = last[-1] if last and every else None
+        t2 = curvature(model, q, t, t1, rate, K, J, only, lower, held if every else None)
+    else:
+        t2 = np.full_like(t, np.nan)
     # 4. the reference configuration closes by construction (every unknown 0), and
     # frames the path from frame 0 did not reach are sought from the reference again
     at_ref = np.flatnonzero(~ok & (np.abs(q - q_ref).max(axis=1) == 0))
@@ -277,6 +294,8 @@ def close(
     J[~ok] = np.nan
     if reseeded:
         J[list(reseeded)] = np.nan
+    if keep is not None and held and not at_ref.size and not reseeded:
+        keep.append((held[0], K))
     return Closure(t, t1, t2, err, iters, ok, tol, jumps, reseeded, modes, tuple(stops + more), J)
 
 

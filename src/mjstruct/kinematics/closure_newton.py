@@ -62,6 +62,7 @@ def seeded_jets(
     rates: FloatArray | None = None,
     lead: FloatArray | None = None,
     order: int = 1,
+    keep_carried: bool = False,
 ) -> tuple[Evaluation, list[FloatArray]]:
     """One evaluation seeded on every unknown (t' = e_j at rest), after a first seed
     along ``rates`` with t' = ``lead`` (0 if None) when ``rates`` is given.
@@ -79,7 +80,9 @@ def seeded_jets(
         dq[0] = rates
         if lead is not None:
             seeds[0] = lead
-    ev = evaluate(model, q, order=order, rates=dq, t=t, t1=seeds, K=K, only=only)
+    ev = evaluate(
+        model, q, order=order, rates=dq, t=t, t1=seeds, K=K, only=only, keep_carried=keep_carried
+    )
     shape = (n, F, model.plan.equations)
     out = [ev.residual_matrix(i) for i in range(1, order + 1)]
     # a derivative that depends on no seed has no seed axis
@@ -93,6 +96,7 @@ def closure_jets(
     K: Modes | None = None,
     rates: FloatArray | None = None,
     only: tuple[int, ...] | None = None,
+    keep: list[Evaluation] | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray | None]:
     """R (F, e), dR/dt (F, e, k) and, given ``rates``, dR/dτ at fixed t: one evaluation.
 
@@ -100,9 +104,12 @@ def closure_jets(
     evaluation's seed axis: the positions are computed once, and a Newton iteration
     or a tangent costs one call of :func:`~mjstruct.kinematics.evaluate.evaluate`
     whatever the number of unknowns; the first derivative along each seed is a column
-    exactly.
+    exactly.  ``keep``: the evaluation is appended to it (its positions serve an
+    evaluation of higher order at the same point).
     """
-    ev, (R1,) = seeded_jets(model, q, t, K, only, rates)
+    ev, (R1,) = seeded_jets(model, q, t, K, only, rates, keep_carried=keep is not None)
+    if keep is not None:
+        keep.append(ev)
     first = 0 if rates is None else 1
     # (seed, frame, equation) -> (frame, equation, seed): np.moveaxis(·, 0, -1) as a
     # plain transpose
@@ -178,6 +185,7 @@ def newton_with_tangent(
     maxiter: int,
     only: tuple[int, ...] | None,
     rates: FloatArray | None = None,
+    keep: list[Evaluation] | None = None,
 ) -> tuple[FloatArray, FloatArray, int, BoolArray, FloatArray, FloatArray | None]:
     """:func:`newton`, also returning dR/dt at the final t and, with ``rates``, dt/dτ.
 
@@ -188,7 +196,9 @@ def newton_with_tangent(
     more seed, dR/dτ, so the tangent at the final point costs no evaluation of its
     own; no frame stops at the first round then (its step is at the rounding level
     where the guess is already closed).  A frame stops after ``2 * maxiter`` evaluations,
-    halvings included, or where even the halved trial does not assemble.
+    halvings included, or where even the halved trial does not assemble.  ``keep``:
+    when the last round evaluated every frame at the t returned, its evaluation is
+    appended to it.
     """
     F = t0.shape[0]
     scale = model.geometry.scale
@@ -215,8 +225,10 @@ def newton_with_tangent(
         tries[sel] += 1
         seed = None if rounds == 1 else rates
         if every:
-            R, J, Rd = closure_jets(model, q, t, K, seed, only)
+            held: list[Evaluation] | None = None if keep is None else []
+            R, J, Rd = closure_jets(model, q, t, K, seed, only, held)
         else:
+            held = None
             R, J, Rd = closure_jets(model, q[idx], t[idx], subset_modes(K, idx), seed, only)
         rmax = np.abs(R).max(axis=1)
         bad = ~np.isfinite(rmax) | ((rmax > 2.0 * rbase[sel]) & (rmax > tol * scale))
@@ -251,6 +263,8 @@ def newton_with_tangent(
             active[idx[stop]] = False
             go = ~stop
             if not go.any():
+                if held and isinstance(g, slice) and keep is not None:
+                    keep += held  # every frame evaluated at its final t in this round
                 continue
             g, J, R = idx[go], J[go], R[go]
         step[g] = newton_step(J, R)
@@ -406,7 +420,27 @@ def curvature(
     K: Modes | None,
     J: FloatArray,
     only: tuple[int, ...] | None,
+    lower: Evaluation | None = None,
+    keep: list[Evaluation] | None = None,
 ) -> FloatArray:
-    """t'' given t' and the Jacobian dR/dt at ``t``: one evaluation of order 2."""
-    ev = evaluate(model, q, order=2, rates=rate, t=t, t1=t1, K=K, only=only)
+    """t'' given t' and the Jacobian dR/dt at ``t``: one evaluation of order 2.
+
+    ``lower``: an evaluation of the same steps at ``t`` (kept by :func:`closure_jets`),
+    whose positions it starts from; ``keep``: the evaluation is appended to it.
+    """
+    ev = evaluate(
+        model,
+        q,
+        order=2,
+        rates=rate,
+        t=t,
+        t1=t1,
+        K=K,
+        only=only,
+        lower=lower,
+        known=0,
+        keep_carried=keep is not None,
+    )
+    if keep is not None:
+        keep.append(ev)
     return -solve_stacked(J, ev.residual_matrix(2))

@@ -61,6 +61,12 @@ class Evaluation:
     diag: dict[int, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
     first: dict[str, str] = field(default_factory=dict)
     solved: dict[str, Jet] = field(default_factory=dict)
+    #: joint -> its centre's jet as the steps read it (kept when asked: an evaluation
+    #: of higher order at the same configuration starts from it)
+    carried: dict[str, Jet] = field(default_factory=dict)
+    #: whether it can be the ``lower`` of another evaluation (its centres kept, its
+    #: poses in the reference link's coordinates)
+    reusable: bool = False
 
     def centre(self, joint: str) -> Jet:
         """Jet of a joint centre (prismatic: the point carried by its second link)."""
@@ -141,6 +147,9 @@ def evaluate(
     K: Modes | None = None,
     upto: int | None = None,
     only: Sequence[int] | None = None,
+    lower: Evaluation | None = None,
+    known: int = -1,
+    keep_carried: bool = False,
 ) -> Evaluation:
     """Run the model's plan on driver coordinates ``q`` (frames × drivers).
 
@@ -158,6 +167,12 @@ def evaluate(
     upto : stop after this many steps (for refining branch points).
     only : evaluate only these steps (indices in plan order, closed under what they
         read: :attr:`~mjstruct.kinematics.model.KinematicModel.step_dependencies`).
+    lower, known : an evaluation of (some of) the same steps at the same ``q``, ``t``
+        and ``K``, kept with ``keep_carried`` and not carried to the frame link, whose
+        derivatives up to order ``known`` hold here (1: also the same ``rates`` and
+        ``t1``, without a seed axis): the steps take those orders from it and compute
+        the orders above (the same numbers as computed afresh).
+    keep_carried : keep the joint centres' jets the steps read (for ``lower``).
     """
     plan, geom, m = model.plan, model.geometry, model.mechanism
     F = int(q.shape[0])
@@ -176,6 +191,8 @@ def evaluate(
         t2=zeros if t2 is None else t2,
         modes=K if K is not None else {},
         first_memo=model.first_links(None if only is None else tuple(only), upto),
+        lower=lower if known >= 0 and lower is not None and lower.reusable else None,
+        known=known if lower is not None and lower.reusable else -1,
     )
     # frames that do not assemble or sit at a singular position get NaN or inf, which
     # their validity reports: numpy's warnings are silenced once for all steps
@@ -190,6 +207,8 @@ def evaluate(
     ev = Evaluation(m, geom, order, run.poses, run.residuals, run.diag, run.first, run.solved)
     if plan.reference != plan.frame and plan.frame in ev.poses and upto is None and only is None:
         _to_frame(ev, plan.frame)
+    elif keep_carried:
+        ev.carried, ev.reusable = run.carried, True
     return ev
 
 

@@ -34,10 +34,11 @@ import numpy.typing as npt
 from mjstruct.errors import MechanismError, expect_ids
 from mjstruct.kinematics.branches import BranchEvent, track_branches
 from mjstruct.kinematics.closure import Closure, close
-from mjstruct.kinematics.evaluate import Evaluation, evaluate
+from mjstruct.kinematics.evaluate import Evaluation, evaluate, reference_mode
 from mjstruct.kinematics.geometry import Geometry, geometry_of
 from mjstruct.kinematics.jacobian import one_blas_thread
 from mjstruct.kinematics.planner import Plan, plan_checked
+from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import CLOSURE_TOL, REDUNDANT_HOLDS, TOL_FLOOR
 from mjstruct.kinematics.triangles import Jet
 from mjstruct.mechanism import Mechanism, expect_mechanism
@@ -159,6 +160,16 @@ class KinematicModel:
         memo = self.__dict__.setdefault("_first_links", {})
         return memo.setdefault((only, upto), {})
 
+    def _same_modes(self, a: Modes | None, b: Modes | None) -> bool:
+        """Whether two sets of assembly modes are the same on every frame (a step
+        missing: the reference configuration's mode)."""
+        a, b = a or {}, b or {}
+        for k in set(a) | set(b):
+            ref = reference_mode(self.plan, self.geometry, k)
+            if not np.all(np.asarray(a.get(k, ref)) == np.asarray(b.get(k, ref))):
+                return False
+        return True
+
     @property
     def drivers(self) -> tuple[str, ...]:
         """The driver joints (generalised coordinates), in order."""
@@ -235,11 +246,12 @@ class KinematicModel:
         warnings: list[str] = []
         sol: Closure | None = None
         t = t1 = t2 = None
+        kept: list[tuple[Evaluation, Modes | None]] = []
         if plan.unknowns:
             # trouble is reported per frame below; one BLAS thread for the batched
             # small solves of Newton (threads only add wake-up cost there)
             with np.errstate(all="ignore"), one_blas_thread():
-                sol = close(self, qa, rate, tol=tol, order=order)
+                sol = close(self, qa, rate, tol=tol, order=order, keep=kept)
             # frames that did not close carry no configuration (null, reported)
             t = np.where(sol.converged[:, None], sol.t, np.nan)
             t1, t2 = sol.t1, sol.t2
@@ -259,8 +271,14 @@ class KinematicModel:
         # the closure's inner dyads take its modes per frame (they flip where a dyad
         # passes its own dead point inside the group)
         K0 = None if sol is None or not sol.modes else sol.modes
+        # the closure's evaluation of t'' at these t and t' in these modes: positions
+        # and first derivatives as they are
+        lower = kept.pop()[0] if kept and self._same_modes(kept[0][1], K0) else None
         with np.errstate(all="ignore"):
-            ev = evaluate(self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K0)
+            ev = evaluate(
+                self, qa, order=order, rates=rate, t=t, t1=t1, t2=t2, K=K0, lower=lower, known=1
+            )
+            lower = None  # its own arrays of order 2 are not needed any more
             stops = () if sol is None else sol.stops
             K, events = track_branches(self, qa, t, first=ev, modes=K0, stops=stops)
             if any(e.action == "switched" for e in events):

@@ -61,18 +61,27 @@ class Pose:
         with np.errstate(invalid="ignore", over="ignore"):
             return self.carry(z)
 
-    def carry(self, z: complex) -> Jet:
+    def carry(self, z: complex, lower: Jet | None = None) -> Jet:
         """:meth:`point` without its own floating-point error state (for the steps
-        of :func:`~mjstruct.kinematics.evaluate.evaluate`, which sets it once)."""
+        of :func:`~mjstruct.kinematics.evaluate.evaluate`, which sets it once).
+
+        ``lower``: the point's derivatives of the lowest orders, already known (from an
+        evaluation at the same configuration): only the orders above are computed.
+        """
         # the anchor itself: nothing to compute (per-frame geometry, where the design
         # plug-in gives each frame its own reference positions, compares arrays)
         if z is self.zA or (_scalar(z) and _scalar(self.zA) and z == self.zA):
             return list(self.A)
+        n = len(self.A)
+        out = [] if lower is None else lower[:n]
+        if len(out) == n:
+            return out
         rd = self.r * (z - self.zA)
-        out = [self.A[0] + rd]
-        if len(self.A) > 1:
+        if not out:
+            out.append(self.A[0] + rd)
+        if n > 1 and len(out) == 1:
             out.append(self.A[1] + 1j * self.w[0] * rd)
-        if len(self.A) > 2:
+        if n > 2 and len(out) == 2:
             out.append(self.A[2] + (1j * self.w[1] - self.w[0] ** 2) * rd)
         return out
 
@@ -109,30 +118,44 @@ def solve2(g1: Array, h1: Array, g2: Array, h2: Array) -> Array:
 
 
 def circle_circle(
-    P1: Jet, P2: Jet, r1: float, r2: float, K: Mode, order: int
+    P1: Jet,
+    P2: Jet,
+    r1: float,
+    r2: float,
+    K: Mode,
+    order: int,
+    lower: tuple[Jet, Array, Array] | None = None,
 ) -> tuple[Jet, Array, Array]:
     """Dyad RRR: the point at distances r1 from P1 and r2 from P2 on side K (±1).
 
     Returns the jet of the point, the discriminant h² / r1² (negative: the dyad does
     not assemble) and the signed sine of the angle at the point between the two sides
-    (zero at a dead point).
+    (zero at a dead point).  ``lower``: the point's known derivatives of the lowest
+    orders with the discriminant and the sine, as returned at the same configuration:
+    only the orders above are computed.
     """
-    d = P2[0] - P1[0]
-    D = np.abs(d)
-    # coincident centres: the dyad is undefined (a change point of a hinged square)
-    D = np.where(CENTRES_APART * (r1 + r2) < D, D, np.nan)
-    a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
-    disc = (r1 * r1 - a * a) / (r1 * r1)
-    h = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
-    X0 = P1[0] + (a + 1j * K * h) * d / D
-    X = [X0]
+    if lower is None:
+        d = P2[0] - P1[0]
+        D = np.abs(d)
+        # coincident centres: the dyad is undefined (a change point of a hinged square)
+        D = np.where(CENTRES_APART * (r1 + r2) < D, D, np.nan)
+        a = (D * D + r1 * r1 - r2 * r2) / (2.0 * D)
+        disc = (r1 * r1 - a * a) / (r1 * r1)
+        h = r1 * np.sqrt(np.where((disc < 0) & (disc > -DISC_SLACK), 0.0, disc))
+        X = [P1[0] + (a + 1j * K * h) * d / D]
+    else:
+        X, disc, det = lower[0][: order + 1], lower[1], lower[2]
+        if len(X) == order + 1:
+            return X, disc, det
+    X0 = X[0]
     g1, g2 = X0 - P1[0], X0 - P2[0]
-    if order >= 1:
+    if order >= 1 and len(X) == 1:
         X.append(solve2(g1, _dot(g1, P1[1]), g2, _dot(g2, P2[1])))
-    if order >= 2:
+    if order >= 2 and len(X) == 2:
         t1, t2 = X[1] - P1[1], X[1] - P2[1]
         X.append(solve2(g1, _dot(g1, P1[2]) - _dot(t1, t1), g2, _dot(g2, P2[2]) - _dot(t2, t2)))
-    det = (g1.real * g2.imag - g1.imag * g2.real) / (r1 * r2)
+    if lower is None:
+        det = (g1.real * g2.imag - g1.imag * g2.real) / (r1 * r2)
     return X, disc, det
 
 
@@ -241,16 +264,29 @@ def guide_pair(
     return r, out, disc, g.real / W
 
 
-def rotation_between(P: Jet, Q: Jet, zP: complex, zQ: complex) -> tuple[Array, Jet]:
-    """Rotation of a link carrying P and Q (reference positions zP, zQ): ``r`` and θ', θ''."""
+def rotation_between(
+    P: Jet, Q: Jet, zP: complex, zQ: complex, lower: tuple[Array, Jet] | None = None
+) -> tuple[Array, Jet]:
+    """Rotation of a link carrying P and Q (reference positions zP, zQ): ``r`` and θ', θ''.
+
+    ``lower``: ``r`` and the known θ', θ'' of the lowest orders, as returned at the same
+    configuration: only the orders above are computed.
+    """
+    n = len(P) - 1
     v = Q[0] - P[0]
-    e = zQ - zP
-    r = (v / np.abs(v)) / (e / abs(e))
-    w: Jet = []
-    if len(P) > 1:
+    if lower is None:
+        e = zQ - zP
+        r = (v / np.abs(v)) / (e / abs(e))
+        w: Jet = []
+    else:
+        r, w = lower[0], lower[1][:n]
+        if len(w) == n:
+            return r, w
+    if n > 0:
         q1 = (Q[1] - P[1]) / v
-        w.append(q1.imag)
-    if len(P) > 2:
+        if not w:
+            w.append(q1.imag)
+    if n > 1:
         w.append(((Q[2] - P[2]) / v - q1 * q1).imag)
     return r, w
 

@@ -26,7 +26,7 @@ import heapq
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -35,6 +35,9 @@ from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.kinematics.triangles import Jet, Pose
 from mjstruct.mechanism import Mechanism
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.evaluate import Evaluation
 
 FloatArray = npt.NDArray[np.float64]
 #: assembly mode per dyad step (±1, scalar or per frame)
@@ -121,6 +124,12 @@ class Run:
     #: the first links found by earlier evaluations of the same steps (the placement
     #: order is the plan's: they are the same), given to :attr:`first` to start from
     first_memo: dict[str, str] | None = None
+    #: an evaluation at the same configuration (driver values, unknowns, modes) whose
+    #: derivatives up to order :attr:`known` hold here too (0: positions; 1: also the
+    #: first derivatives, the same rates and t'): the steps that support it compute
+    #: only the orders above (the same numbers: the same operations on the same values)
+    lower: Evaluation | None = None
+    known: int = -1
 
     def __post_init__(self) -> None:
         self.first = FirstLinks(self.mechanism, self.poses, self.first_memo)
@@ -143,10 +152,29 @@ class Run:
             return self.solved[joint]
         got = self.carried.get(joint)
         if got is None:
-            got = self.carried[joint] = self.poses[self.first[joint]].carry(
-                self.geometry.centres[joint]
+            link = self.first[joint]
+            known = None
+            if self.lower is not None and self.lower.first.get(joint) == link:
+                known = self.lower.carried.get(joint)
+            got = self.carried[joint] = self.poses[link].carry(
+                self.geometry.centres[joint], None if known is None else known[: self.known + 1]
             )
         return list(got)
+
+    def lower_pose(self, link: str) -> tuple[npt.NDArray[Any], Jet] | None:
+        """``r`` and the known θ', θ'' of ``link`` in :attr:`lower` (None: not there)."""
+        pose = None if self.lower is None else self.lower.poses.get(link)
+        return None if pose is None else (pose.r, pose.w[: self.known])
+
+    def lower_point(
+        self, joint: str, k: int
+    ) -> tuple[Jet, npt.NDArray[Any], npt.NDArray[Any]] | None:
+        """The known orders of a centre dyad step ``k`` solved in :attr:`lower`, with
+        the step's discriminant and sine (None: not there)."""
+        if self.lower is None or k not in self.lower.diag or joint not in self.lower.solved:
+            return None
+        disc, det = self.lower.diag[k]
+        return self.lower.solved[joint][: self.known + 1], disc, det
 
     def mode(self, k: int, reference: int) -> npt.NDArray[Any] | int:
         """Assembly mode of step ``k`` (given, else the reference configuration's)."""

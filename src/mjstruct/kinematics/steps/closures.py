@@ -34,7 +34,7 @@ from mjstruct.kinematics.triangles import Jet, Pose, distance_residual, dot, rot
 def _eval_place(s: Step, k: int, run: Run) -> None:
     C = run.geometry.centres
     P, Q = run.centre(s.inputs[0]), run.centre(s.inputs[1])
-    r, w = rotation_between(P, Q, C[s.inputs[0]], C[s.inputs[1]])
+    r, w = rotation_between(P, Q, C[s.inputs[0]], C[s.inputs[1]], run.lower_pose(s.links[0]))
     run.place(s.links[0], Pose(C[s.inputs[0]], P, r, w))
 
 

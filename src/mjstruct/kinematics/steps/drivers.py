@@ -44,7 +44,8 @@ def _driver(s: Step, k: int, run: Run) -> None:
     dq = sign * (run.q[:, s.index] - run.geometry.driver_ref[s.joint])
     dq1 = sign * run.rates[..., s.index]
     if s.kind == "driver-R":
-        r = base.r * np.exp(1j * dq)
+        low = run.lower_pose(driven)
+        r = base.r * np.exp(1j * dq) if low is None else low[0]
         w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
         run.place(driven, Pose(C[s.joint], run.centre(s.joint), r, w))
         return
@@ -79,7 +80,9 @@ def _assume(s: Step, k: int, run: Run) -> None:
     i = s.index
     w: Jet = [run.t1[..., i], run.t2[..., i]][: run.order]
     C = run.geometry.centres
-    run.place(s.links[0], Pose(C[s.joint], run.centre(s.joint), np.exp(1j * run.t[:, i]), w))
+    low = run.lower_pose(s.links[0])
+    r = np.exp(1j * run.t[:, i]) if low is None else low[0]
+    run.place(s.links[0], Pose(C[s.joint], run.centre(s.joint), r, w))
 
 
 def _driver_reads(s: Step, m: Mechanism) -> tuple[tuple[str, ...], tuple[str, ...]]:

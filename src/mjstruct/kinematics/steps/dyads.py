@@ -95,10 +95,11 @@ def _eval_rrr(s: Step, k: int, run: Run) -> None:
     P1, P2 = run.centre(s.inputs[0]), run.centre(s.inputs[1])
     zX, z1, z2 = C[s.joint], C[s.inputs[0]], C[s.inputs[1]]
     mode = run.mode(k, mode_rrr(z1, z2, zX))
-    X, disc, det = circle_circle(P1, P2, abs(zX - z1), abs(zX - z2), mode, run.order)
+    low = run.lower_point(s.joint, k)
+    X, disc, det = circle_circle(P1, P2, abs(zX - z1), abs(zX - z2), mode, run.order, low)
     run.diag[k] = (disc, det)
-    rb, wb = rotation_between(P1, X, z1, zX)
-    rc, wc = rotation_between(P2, X, z2, zX)
+    rb, wb = rotation_between(P1, X, z1, zX, run.lower_pose(b))
+    rc, wc = rotation_between(P2, X, z2, zX, run.lower_pose(c))
     run.place(b, Pose(zX, X, rb, wb))
     run.place(c, Pose(zX, X, rc, wc))
     run.first[s.joint] = b
