@@ -199,3 +199,36 @@ def test_animation_labels_keep_their_side_between_nearby_frames():
     # the label at the multiple joint changes side rarely, not every frame
     flips = np.sum(np.abs(np.angle(np.exp(1j * np.diff(sides)))) > 0.5)
     assert flips <= 2
+
+
+def _pins_in_pixels(model: KinematicModel) -> np.ndarray:
+    """Each pin's centre and its radius along x and along y, in pixels."""
+    ax = draw_scene(scene_at(model))
+    ax.figure.canvas.draw()
+    to_px = ax.transData.transform
+    rows = []
+    for pin in sorted(
+        (a for a in artists(ax, "joint") if isinstance(a, Circle)), key=Circle.get_gid
+    ):
+        (x, y), r = pin.center, pin.radius
+        c = to_px((x, y))
+        rows.append([*c, to_px((x + r, y))[0] - c[0], to_px((x, y + r))[1] - c[1]])
+    return np.array(rows)
+
+
+@pytest.mark.parametrize("size", [1e-45, 1e-20, 1e20, 1e45])
+def test_a_drawing_looks_the_same_at_any_size(tmp_path, size):
+    # matplotlib's own equal aspect fails below spans of about 1e-35: a four-bar of
+    # size 1e-45 came out squashed, its pins ellipses
+    import json
+
+    data = json.loads(example_path("four-bar").read_text())
+    for item in [*data["joints"], *data.get("points", [])]:
+        item["at"] = [size * x for x in item["at"]]
+    path = tmp_path / "scaled.json"
+    path.write_text(json.dumps(data))
+    plain = _pins_in_pixels(model_of("four-bar"))
+    scaled = _pins_in_pixels(KinematicModel.build(read_mechanism(path)))
+    assert plain.shape == scaled.shape and len(plain) >= 4
+    assert np.allclose(scaled[:, 2], scaled[:, 3])  # round pins
+    assert np.allclose(plain, scaled, atol=0.5), (plain, scaled)  # the same picture

@@ -25,6 +25,7 @@ from __future__ import annotations
 from typing import Any
 
 from mjstruct.mechanism import Mechanism
+from mjstruct.plot.layout import equal_scale
 from mjstruct.structure.assur import Decomposition, roman
 
 Position = dict[tuple[str, str], tuple[float, float]]
@@ -107,7 +108,7 @@ def plot_decomposition(
             Line2D([], [], marker="o", ls="", ms=10, mfc=cmap(k % 10), mec="black", label=text)
         )
     ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
-    ax.set_aspect("equal")
+    equal_scale(ax)
     ax.set_axis_off()
     title = m.name or "mechanism"
     ax.set_title(

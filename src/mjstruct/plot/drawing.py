@@ -34,7 +34,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.plot.annotations import AnnotationArtists
-from mjstruct.plot.layout import drawing_figure, figure_for, fill_axes
+from mjstruct.plot.layout import drawing_figure, equal_scale, figure_for, fill_axes
 from mjstruct.plot.scene import (
     PATH_FRAMES,
     Scene,
@@ -99,7 +99,7 @@ class SceneArtists:
         x0, x1, y0, y1 = fill_axes(scene.limits, ax)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
-        ax.set_aspect("equal")
+        equal_scale(ax)
         ax.set_axis_off()
         colours = link_colours(scene)
         self.scheme = SchemeArtists(ax, scene, colours)

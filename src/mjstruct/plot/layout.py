@@ -192,6 +192,20 @@ def drawing_figure(
     return fig, ax
 
 
+def equal_scale(ax: Any) -> None:
+    """One length unit as long on both axes of ``ax``, at the limits it has now.
+
+    matplotlib's own equal aspect gives up on spans below about 1e-35 (a mechanism of
+    size 1e-45 came out squashed, its pins ellipses); the box's shape computed here
+    from the limits, a ratio of two spans, holds at any size a double can hold.
+    """
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    ax.set_xlim(x0, x1)  # fixed: artists added later must not move them
+    ax.set_ylim(y0, y1)
+    ax.set_box_aspect(abs((y1 - y0) / (x1 - x0)))
+
+
 def fill_axes(limits: tuple[float, float, float, float], ax: Any) -> tuple[float, ...]:
     """``limits`` widened (on both sides of the short direction) to the shape of
     ``ax``, so that an equal-aspect drawing fills its axes instead of leaving margins."""
