@@ -83,3 +83,6 @@ def test_the_default_call_starts_its_evaluation_from_the_closure(
     m = read_mechanism(example_path("class-iv-seed003"))
     kinematic_analysis(m, frames=72)
     assert seen and seen[0] is not None and seen[0].reusable
+    # kept without its second derivatives (t'' was 0 there; they are not reused)
+    lower = seen[0]
+    assert lower.order == 1 and all(len(p.A) == 2 and len(p.w) == 1 for p in lower.poses.values())

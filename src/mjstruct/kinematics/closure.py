@@ -250,7 +250,8 @@ def close(
     if order >= 2:
         every = bool(ok.all())
         lower = last[-1] if last and every else None
-        t2 = curvature(model, q, t, t1, rate, K, J, only, lower, held if every else None)
+        kept = held if every and keep is not None else None
+        t2 = curvature(model, q, t, t1, rate, K, J, only, lower, kept)
     else:
         t2 = np.full_like(t, np.nan)
     # 4. the reference configuration closes by construction (every unknown 0), and

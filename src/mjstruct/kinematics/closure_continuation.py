@@ -33,6 +33,7 @@ import numpy as np
 from mjstruct.kinematics.closure_modes import ModeFlips, inner_mode_steps, try_flip
 from mjstruct.kinematics.closure_newton import (
     closure_jets,
+    largest,
     newton_step,
     seeded_jets,
     solve_stacked,
@@ -119,6 +120,8 @@ def continue_stations(
     inner = () if flips is None else inner_mode_steps(model, only)
 
     def modes(sv: FloatArray) -> Modes | None:
+        if K is None and not flips:  # no base modes, no flip met: the reference's
+            return None
         if flips is not None:
             return flips.modes(K, sv, path.frames_at(sv))
         return None if K is None else subset_modes(K, path.frames_at(sv))
@@ -143,10 +146,11 @@ def continue_stations(
     wdir, wend = np.zeros(0), total
     s_last, step = 0.0, STATION_STEP
     alone = False  # True from a stuck window station until the step grows back
+    turns = set(path.turns.tolist())
     for _ in range(20000):
         if s_last >= total:
             break
-        if S[-1] == s_last and s_last in path.turns and not (len(S) > 1 and S[-2] == s_last):
+        if S[-1] == s_last and s_last in turns and not (len(S) > 1 and S[-2] == s_last):
             # a turn: the station again, its tangent along the new run's direction
             new, old = path.direction_after(s_last), path.directions(np.array([s_last]))[0]
             if new.size == 1:  # one driver: the tangent is linear in its rate
@@ -171,7 +175,7 @@ def continue_stations(
                 win.insert(np.full(sv.size, win.size), sv, path.at(sv), g)
             R, J, Rd = closure_jets(model, win.q, win.t, modes(win.s), wdir, only)
             assert Rd is not None
-            rmax = np.abs(R).max(axis=1)
+            rmax = largest(R)
             finite = np.isfinite(rmax)
             e = rmax / scale
             # a trial that does not assemble or more than doubles max |R| (outside the

@@ -108,12 +108,14 @@ def closure_jets(
     evaluation of higher order at the same point).
     """
     ev, (R1,) = seeded_jets(model, q, t, K, only, rates, keep_carried=keep is not None)
-    if keep is not None:
-        keep.append(ev)
     first = 0 if rates is None else 1
     # (seed, frame, equation) -> (frame, equation, seed): np.moveaxis(·, 0, -1) as a
     # plain transpose
-    return ev.residual_matrix(0), R1[first:].transpose(1, 2, 0), (R1[0] if first else None)
+    out = ev.residual_matrix(0), R1[first:].transpose(1, 2, 0), (R1[0] if first else None)
+    if keep is not None:
+        ev.truncate(0)  # the positions serve; the seeds' derivatives do not
+        keep.append(ev)
+    return out
 
 
 def closure_jacobian(
@@ -122,6 +124,14 @@ def closure_jacobian(
     """Residuals R (F, e) and the analytic Jacobian dR/dt (F, e, k) at unknowns ``t``."""
     R, J, _ = closure_jets(model, q, t, K, only=closing_steps(model))
     return R, J
+
+
+def largest(R: FloatArray) -> FloatArray:
+    """max |R| of each row (frames × equations): the closure error in lengths."""
+    if R.shape[1] == 1:  # one equation: the column itself (no reduction)
+        return np.abs(R[:, 0])
+    out: FloatArray = np.abs(R).max(axis=1)
+    return out
 
 
 def solve_stacked(J: FloatArray, b: FloatArray) -> FloatArray:
@@ -230,7 +240,7 @@ def newton_with_tangent(
         else:
             held = None
             R, J, Rd = closure_jets(model, q[idx], t[idx], subset_modes(K, idx), seed, only)
-        rmax = np.abs(R).max(axis=1)
+        rmax = largest(R)
         bad = ~np.isfinite(rmax) | ((rmax > 2.0 * rbase[sel]) & (rmax > tol * scale))
         bad &= (halved[sel] < 8) & (evals[sel] > 0)
         g: slice | npt.NDArray[np.intp] = sel
@@ -441,6 +451,8 @@ def curvature(
         known=0,
         keep_carried=keep is not None,
     )
+    t2 = -solve_stacked(J, ev.residual_matrix(2))
     if keep is not None:
+        ev.truncate(1)  # positions and first derivatives serve (t'' was 0 here)
         keep.append(ev)
-    return -solve_stacked(J, ev.residual_matrix(2))
+    return t2

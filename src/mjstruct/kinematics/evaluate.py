@@ -122,6 +122,20 @@ class Evaluation:
                     out[2][idx] = p.A[2] + (1j * p.w[1] - p.w[0] ** 2) * rd
         return out
 
+    def truncate(self, order: int) -> None:
+        """Drop the derivatives above ``order`` (what an evaluation kept as another's
+        ``lower`` needs no more: they are most of its memory)."""
+        if order >= self.order:
+            return
+        n = order + 1
+        self.order = order
+        for p in self.poses.values():
+            p.A, p.w = p.A[:n], p.w[:order]
+        for table in (self.solved, self.carried):
+            for joint, jet in table.items():
+                table[joint] = jet[:n]
+        self.residuals = [jet[:n] for jet in self.residuals]
+
     def residual_matrix(self, k: int = 0) -> FloatArray:
         """Derivative ``k`` of the closure equations, shape (frames, equations).
 

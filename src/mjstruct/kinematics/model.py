@@ -305,7 +305,10 @@ class KinematicModel:
 
 def _finite_frames(ev: Evaluation, frames: int) -> BoolArray:
     """Frames where every link's pose and its derivatives are finite."""
-    parts = [x for pose in ev.poses.values() for x in (pose.r, *pose.A, *pose.w)]
+    # (links placed by one step share their arrays: each is summed once)
+    parts = list(
+        {id(x): x for pose in ev.poses.values() for x in (pose.r, *pose.A, *pose.w)}.values()
+    )
     # each array's sum is finite when all of it is (an overflowing sum only sends
     # the test down the frame-by-frame path): one reduction per array
     with np.errstate(all="ignore"):
