@@ -5,7 +5,12 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
 import random
+import signal
+import subprocess
+import sys
+import time
 
 import networkx as nx
 import pytest
@@ -397,7 +402,7 @@ def test_workers_are_capped_at_the_core_count(monkeypatch):
     seen = []
 
     class Recorder(multiprocessing.pool.ThreadPool):
-        def __init__(self, processes, initializer=None):
+        def __init__(self, processes, initializer=None, initargs=()):
             seen.append(processes)
             super().__init__(1)
 
@@ -408,13 +413,56 @@ def test_workers_are_capped_at_the_core_count(monkeypatch):
     assert parallel.core_count() >= 1
 
 
-def test_sigterm_stops_the_workers_too():
-    import os
-    import signal
-    import subprocess
-    import sys
-    import time
+def _children(pid: int) -> list[int]:
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children") as fh:
+            return [int(x) for x in fh.read().split()]
+    except (FileNotFoundError, ProcessLookupError):
+        return []
 
+
+def _running(pid: int) -> bool:
+    """The process exists and is not a zombie (an ended process not yet reaped)."""
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+
+
+def _wait_for_workers(job: subprocess.Popen[str], count: int) -> list[int]:
+    """The job's child processes, once there are ``count`` (generous: the machine may
+    be loaded)."""
+    workers: list[int] = []
+    deadline = time.monotonic() + 120
+    while len(workers) < count and time.monotonic() < deadline and job.poll() is None:
+        time.sleep(0.1)
+        workers = _children(job.pid)
+    assert len(workers) >= count, "the pool did not start"
+    return workers
+
+
+def _end(job: subprocess.Popen[str], workers: list[int]) -> None:
+    """This test's own processes, should the test fail."""
+    if job.poll() is None:
+        job.kill()
+        job.wait()
+    for pid in workers:
+        if _running(pid):
+            os.kill(pid, signal.SIGKILL)
+
+
+def _gone(workers: list[int], seconds: float) -> list[int]:
+    """The workers still running after waiting up to ``seconds`` for them to end."""
+    deadline = time.monotonic() + seconds
+    while any(map(_running, workers)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    return [pid for pid in workers if _running(pid)]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_sigterm_stops_the_workers_too() -> None:
+    """SIGTERM once both workers exist: status 143, one line, no worker left."""
     if parallel_cores() < 2:
         pytest.skip("one core: no worker processes to leave behind")
     job = subprocess.Popen(
@@ -423,28 +471,37 @@ def test_sigterm_stops_the_workers_too():
         stderr=subprocess.PIPE,
         text=True,
     )
-    children: list[int] = []
-    deadline = time.monotonic() + 30
-    while len(children) < 2 and time.monotonic() < deadline:
-        time.sleep(0.2)
-        path = f"/proc/{job.pid}/task/{job.pid}/children"
-        with open(path) as fh:
-            children = [int(x) for x in fh.read().split()]
-    assert len(children) >= 2, "the pool did not start"
-    job.send_signal(signal.SIGTERM)
-    _, err = job.communicate(timeout=30)
-    assert job.returncode == 143 and err.strip().endswith("mjstruct: terminated")
-    time.sleep(0.5)
-    alive = []
-    for pid in children:
-        try:
-            os.kill(pid, 0)
-            with open(f"/proc/{pid}/stat") as fh:
-                if fh.read().split()[2] != "Z":
-                    alive.append(pid)
-        except (ProcessLookupError, FileNotFoundError):
-            pass
-    assert alive == []
+    workers: list[int] = []
+    try:
+        workers = _wait_for_workers(job, 2)
+        job.send_signal(signal.SIGTERM)
+        _, err = job.communicate(timeout=120)
+        assert job.returncode == 143 and err.strip().endswith("mjstruct: terminated")
+        assert _gone(workers, 60) == [], "a worker outlived the parent"
+    finally:
+        _end(job, workers)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG")
+def test_workers_end_with_a_killed_parent() -> None:
+    """SIGKILL leaves the parent no cleanup: the workers, each in a 300 s task, end
+    anyway (the kernel kills them with their parent)."""
+    if parallel_cores() < 2:
+        pytest.skip("one core: no worker processes")
+    script = (
+        "import time\n"
+        "from mjstruct.synthesis.parallel import run_tasks\n"
+        "list(run_tasks(time.sleep, [300, 300], workers=2))\n"
+    )
+    job = subprocess.Popen([sys.executable, "-c", script], text=True)
+    workers: list[int] = []
+    try:
+        workers = _wait_for_workers(job, 2)
+        job.kill()
+        job.wait(timeout=120)
+        assert _gone(workers, 60) == [], "a worker outlived the parent"
+    finally:
+        _end(job, workers)
 
 
 def parallel_cores() -> int:

@@ -76,7 +76,7 @@ def run_tasks(
     results: dict[int, Any] = {}
     # a Pool (not concurrent.futures) so that leaving early (Ctrl-C, SIGTERM, an
     # error) terminates the workers at once instead of waiting for their tasks
-    with multiprocessing.Pool(workers, initializer=_quiet_worker) as pool:
+    with multiprocessing.Pool(workers, initializer=_quiet_worker, initargs=(os.getpid(),)) as pool:
         calls = [(fn, k, task) for k, task in enumerate(tasks)]
         for done, (k, value) in enumerate(pool.imap_unordered(_indexed_call, calls), 1):
             results[k] = value
@@ -86,12 +86,17 @@ def run_tasks(
         yield results[k]
 
 
-def _quiet_worker() -> None:
-    """Workers leave signals to the parent, which terminates the pool."""
+def _quiet_worker(parent: int) -> None:
+    """Workers leave signals to the parent, which terminates the pool; and they end
+    with the parent whatever ends it (on Linux: even SIGKILL, or a signal landing
+    while the pool starts, where the parent's cleanup cannot run)."""
     import signal
+
+    from mjstruct.structure.isomorphism import _die_with_parent
 
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent(parent)
 
 
 def _indexed_call(call: tuple[Callable[[Any], Any], int, Any]) -> tuple[int, Any]:
