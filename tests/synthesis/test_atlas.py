@@ -430,6 +430,20 @@ def _running(pid: int) -> bool:
         return False
 
 
+def _states(pids: list[int]) -> dict[int, str]:
+    """Each process's command line and /proc status line, for a failure message."""
+    out = {}
+    for pid in pids:
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as fh:
+                command = fh.read().replace(b"\0", b" ").decode(errors="replace")
+            with open(f"/proc/{pid}/stat") as fh:
+                out[pid] = f"{command.strip()} | {fh.read().strip()}"
+        except (FileNotFoundError, ProcessLookupError):
+            out[pid] = "gone"
+    return out
+
+
 def _wait_for_workers(job: subprocess.Popen[str], count: int) -> list[int]:
     """The job's child processes, once there are ``count`` (generous: the machine may
     be loaded)."""
@@ -438,7 +452,7 @@ def _wait_for_workers(job: subprocess.Popen[str], count: int) -> list[int]:
     while len(workers) < count and time.monotonic() < deadline and job.poll() is None:
         time.sleep(0.1)
         workers = _children(job.pid)
-    assert len(workers) >= count, "the pool did not start"
+    assert len(workers) >= count, f"the pool did not start: {workers}, status {job.poll()}"
     return workers
 
 
@@ -476,8 +490,9 @@ def test_sigterm_stops_the_workers_too() -> None:
         workers = _wait_for_workers(job, 2)
         job.send_signal(signal.SIGTERM)
         _, err = job.communicate(timeout=120)
-        assert job.returncode == 143 and err.strip().endswith("mjstruct: terminated")
-        assert _gone(workers, 60) == [], "a worker outlived the parent"
+        assert job.returncode == 143, (job.returncode, err)
+        assert err.strip().endswith("mjstruct: terminated"), err
+        assert _gone(workers, 60) == [], f"a worker outlived the parent: {_states(workers)}"
     finally:
         _end(job, workers)
 
@@ -499,7 +514,7 @@ def test_workers_end_with_a_killed_parent() -> None:
         workers = _wait_for_workers(job, 2)
         job.kill()
         job.wait(timeout=120)
-        assert _gone(workers, 60) == [], "a worker outlived the parent"
+        assert _gone(workers, 60) == [], f"a worker outlived the parent: {_states(workers)}"
     finally:
         _end(job, workers)
 

@@ -368,14 +368,23 @@ def _worker(send: Any, args: tuple[Any, ...], parent: int) -> None:
     # the parent decides: a signal to the group must not make the worker raise
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    _die_with_parent(parent)
+    die_with_parent(parent)
     send.send(_nauty(*args))
     send.close()
 
 
-def _die_with_parent(parent: int) -> None:
+def die_with_parent(parent: int) -> None:
     """Ask Linux to kill this process when its parent ends, whatever ends it (even
-    SIGKILL, where the parent's cleanup cannot run); elsewhere nothing."""
+    SIGKILL, where the parent's cleanup cannot run); elsewhere nothing.
+
+    Called first thing in a worker process (here and in the atlas's process pool).
+
+    Parameters
+    ----------
+    parent : int
+        The parent's process id, taken before the fork: a worker whose parent has
+        already gone (its parent id differs) ends at once.
+    """
     import ctypes
     import os
     import signal

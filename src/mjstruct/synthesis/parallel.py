@@ -92,11 +92,11 @@ def _quiet_worker(parent: int) -> None:
     while the pool starts, where the parent's cleanup cannot run)."""
     import signal
 
-    from mjstruct.structure.isomorphism import _die_with_parent
+    from mjstruct.structure.isomorphism import die_with_parent
 
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent(parent)
+    die_with_parent(parent)
 
 
 def _indexed_call(call: tuple[Callable[[Any], Any], int, Any]) -> tuple[int, Any]:
