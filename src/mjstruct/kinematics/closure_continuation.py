@@ -191,18 +191,18 @@ def continue_stations(
             at = np.where(near[:, None] & ~closed[:, None], win.t + newton, win.t)
             ready = closed | near
             # accept the closed stations at the front while each agrees with the last
-            c = win.size if ready.all() else int(np.argmin(ready))
+            c = win.size if ready.all() else int(ready.argmin())
             taken = 0
             if c:
-                ds = win.s[:c] - np.append(s_last, win.s[: c - 1])
+                ds = win.s[:c] - np.concatenate(([s_last], win.s[: c - 1]))
                 fits = agreement(
-                    np.vstack([TT[-1], at[: c - 1]]),
-                    np.vstack([DD[-1], finite_or_zero(D[: c - 1])]),
+                    np.concatenate([TT[-1][None], at[: c - 1]]),
+                    np.concatenate([DD[-1][None], finite_or_zero(D[: c - 1])]),
                     at[:c],
                     D[:c],
                     ds,
                 )
-                taken = c if fits.all() else int(np.argmin(fits))
+                taken = c if fits.all() else int(fits.argmin())
                 S.extend(win.s[:taken].tolist())
                 TT.extend(at[:taken])
                 DD.extend(finite_or_zero(D[:taken]))

@@ -74,7 +74,8 @@ def seeded_jets(
     first = 0 if rates is None else 1
     n = k + first
     seeds = np.zeros((n, 1 if lead is None else F, k))
-    seeds[first:] = np.eye(k)[:, None, :]
+    for j in range(k):  # seed first + j: t' = e_j (np.eye's values, without its cost)
+        seeds[first + j, :, j] = 1.0
     dq = np.zeros((n, q.shape[1]))
     if rates is not None:
         dq[0] = rates

@@ -32,8 +32,8 @@ class ClosurePath:
     """
 
     def __init__(self, q_ref: FloatArray, q: FloatArray) -> None:
-        self.points = np.vstack([q_ref[None, :], q])
-        seg = np.abs(np.diff(self.points, axis=0)).max(axis=1)
+        self.points = np.concatenate([q_ref[None, :], q])
+        seg = np.abs(self.points[1:] - self.points[:-1]).max(axis=1)
         self.arc = np.concatenate([[0.0], np.cumsum(seg)])
         self.total = float(self.arc[-1])
         self.moving = np.flatnonzero(seg > 0)
@@ -88,8 +88,8 @@ class ClosurePath:
 
     def frames_at(self, sv: FloatArray) -> npt.NDArray[np.intp]:
         """The frame whose assembly modes a position takes (the last one reached)."""
-        out: npt.NDArray[np.intp] = np.clip(
-            np.searchsorted(self.arc, sv, side="right") - 2, 0, self.frames - 1
+        out: npt.NDArray[np.intp] = np.minimum(
+            np.maximum(self.arc.searchsorted(sv, side="right") - 2, 0), self.frames - 1
         )
         return out
 
@@ -162,7 +162,7 @@ def hermite(
     if x.size == 1:
         line: FloatArray = np.repeat(y, xi.size, axis=0) + (xi - x[0])[:, None] * dy
         return line
-    i = np.clip(np.searchsorted(x, xi, side="right") - 1, 0, x.size - 2)
+    i = np.minimum(np.maximum(x.searchsorted(xi, side="right") - 1, 0), x.size - 2)
     h = (x[i + 1] - x[i])[:, None]
     s = ((xi - x[i])[:, None]) / h
     # the basis by products (numpy's power takes a slow general path for the cube)
@@ -187,4 +187,5 @@ def hermite(
     h00 = 1 - h01
     h10 = s3 - 2 * s2 + s
     h11 = s3 - s2
-    return h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
+    cubic_: FloatArray = h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
+    return cubic_

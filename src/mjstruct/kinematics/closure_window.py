@@ -139,7 +139,7 @@ class StationWindow:
         if x.size == 1:
             line: FloatArray = y[0] + dy[0] * (np.minimum(sv, x[0] + REACH) - x[0])[:, None]
             return line
-        j = np.clip(np.searchsorted(x, sv), 1, x.size - 1)
+        j = np.minimum(np.maximum(x.searchsorted(sv), 1), x.size - 1)
         inside = sv < x[-1]
         i0 = np.where(inside, j - 1, x.size - 2)
         i1 = np.where(inside, j, x.size - 1)
@@ -200,7 +200,7 @@ class StationWindow:
         if settled == self.checked:  # no station settled since the last look
             return
         self.checked = settled
-        ds = np.diff(self.s)
+        ds = self.s[1:] - self.s[:-1]
         pair = self.closed[1:] & self.closed[:-1] & (ds > 1e-4)
         if not pair.any():
             return
@@ -234,7 +234,7 @@ class StationWindow:
     ) -> None:
         """One round for the ``live`` stations: ``bad`` trials halved, the rest take
         their Newton step (``newton``, the step from each station's trial point)."""
-        first = int(np.argmax(live)) if live.any() else live.size
+        first = int(live.argmax()) if live.any() else live.size
         g: slice | BoolArray
         if live[first:].all() and not bad[first:].any():
             g = slice(first, None)  # the usual round: every station from the first steps
