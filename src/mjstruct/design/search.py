@@ -166,18 +166,28 @@ class _Batch:
             self.best = min(self.best, float(np.min(np.where(ok, a.energy, np.inf))))
         return a
 
+    def _recall(self, row: FloatArray) -> tuple[float, FloatArray] | None:
+        """A row's cached energy and margins, made the most recent (least recently
+        asked rows go first: scipy asks for its best member after every generation,
+        which may be many generations old)."""
+        key = row.tobytes()
+        hit = self.cache.pop(key, None)
+        if hit is not None:
+            self.cache[key] = hit
+        return hit
+
     def constraints(self, xT: FloatArray) -> FloatArray:
         X = np.atleast_2d(xT.T) if xT.ndim == 2 else xT[None, :]
-        rows = [self.cache.get(row.tobytes()) for row in X]
+        rows = [self._recall(row) for row in X]
         if all(r is not None for r in rows):  # scipy asking again (its callback's best)
             out = np.array([r[1] for r in rows if r is not None]).T
         else:
             a = self._run(X)
             out = np.array([a.margins[k] for k in self.names])
-            if len(self.cache) > 4 * len(X):  # keep the last generations only
-                self.cache.clear()
             for i, (row, e) in enumerate(zip(X, a.energy, strict=True)):
                 self.cache[row.tobytes()] = (float(e), out[:, i])
+            for key in list(self.cache)[: max(0, len(self.cache) - 4 * len(X))]:
+                del self.cache[key]  # keep the last generations' rows only
         return out if xT.ndim == 2 else out[:, 0]
 
     def energy(self, xT: FloatArray) -> FloatArray:
@@ -185,7 +195,7 @@ class _Batch:
         out = np.empty(X.shape[0])
         missing = []
         for i, row in enumerate(X):
-            hit = self.cache.get(row.tobytes())
+            hit = self._recall(row)
             if hit is None:
                 missing.append(i)
             else:
