@@ -1,0 +1,173 @@
+"""Every performance goal, each measured by its own benchmark, run RUNS times in turn.
+
+Each benchmark script races mjstruct against its peer or limit in one process and
+prints the ratio; this script runs them one after another (``--runs`` rounds), reads
+the ratio from what they print, and ends with one table: the goal, its limit, the
+ratio of every round and whether the goal held in all of them.  The machine's load is
+printed with every round (the machine is shared: ratios measured side by side are the
+figures that compare, single times are not).
+
+Run: ``python benchmarks/goals.py [--runs 3] [--only kinematics,dynamics,...]``.
+The atlas goals need ``geng`` (Debian package ``nauty``) for their peer; without it
+that row says so.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+@dataclass(frozen=True)
+class Goal:
+    label: str
+    limit: float
+    pattern: str  # the ratio is its first group, in the output of the goal's script
+    nth: int = 0  # which match, when a script prints several such lines
+    per: float = 1.0  # the matched number divided by this is the ratio (a limit printed raw)
+
+
+#: script (with arguments) -> the goals it measures
+GOALS: dict[str, tuple[list[str], list[Goal]]] = {
+    "kinematics": (
+        ["bench_kinematics.py", "--repeat", "21"],
+        [
+            Goal("four-bar default call / numpy closed form", 1.6,
+                 r"default call kinematic_analysis\(mechanism\)\s+[\d.]+ ms\s+([\d.]+)x"),
+            Goal("Watt-II default call / numpy closed form", 1.6,
+                 r"^\s+default call\s+[\d.]+ ms\s+([\d.]+)x"),
+            Goal("four-bar default call / pylinkage + numba", 1.0,
+                 r"default call / pylinkage: ([\d.]+)"),
+            Goal("Watt-II default call / pylinkage + numba", 1.0,
+                 r"default call / pylinkage: ([\d.]+)", nth=1),
+        ],
+    ),
+    "scale": (
+        ["bench_kinematics_scale.py", "--sizes", "1000,4000", "--cpu"],
+        [
+            Goal("t(4000 links) / t(1000 links), default checks", 4.8,
+                 r"t\(4000\)/t\(1000\), default checks: ([\d.]+)"),
+            Goal("peak RSS at 4000 links / 4 GiB", 1.0, r"peak RSS at 4000 links: ([\d.]+) MB",
+                 per=4096.0),
+        ],
+    ),
+    "closure": (
+        ["bench_closure.py", "--cpu", "--only-default"],
+        [
+            Goal("class-IV default call / batched numpy Newton", 2.0,
+                 r"the default call\s+[\d.]+ ms\s+([\d.]+)x"),
+        ],
+    ),
+    "startup": (
+        ["bench_structure.py", "21"],
+        [
+            Goal("mjstruct analyze --json / python -c pass", 3.0,
+                 r"mjstruct analyze four-bar --json\s+[\d.]+\s+ratio to bare python\s+([\d.]+)"),
+        ],
+    ),
+    "dynamics": (
+        ["bench_dynamics.py"],
+        [
+            Goal("Zhivago free motion, 36 frames / 20 ms", 1.0,
+                 r"zhivago-dynamics, 36 frames: .*?goal 20 ms: ratio ([\d.]+)"),
+            Goal("Zhivago free motion, 3600 frames / 0.2 s", 1.0,
+                 r"zhivago-dynamics, 3600 frames: .*?goal 200 ms: ratio ([\d.]+)"),
+        ],
+    ),
+    "atlas": (
+        ["bench_atlas.py", "--goals", "--repeat", "1"],
+        [
+            Goal("MJ atlas F=1 n=12, 2 workers: wall / 60 s", 1.0,
+                 r"MJ atlas F=1 n=12, 2 workers: wall s\s+[\d.]+\s+[\d.]+\s+([\d.]+)"),
+            Goal("MJ atlas F=1 n=12: peak memory / 300 MB", 1.0,
+                 r"peak memory, Σ RSS of the tree MB\s+[\d.]+\s+[\d.]+\s+([\d.]+)"),
+            Goal("SJ atlas F=1 n=14 / geng + filter", 1.2,
+                 r"SJ atlas F=1 n=14, 2 workers / geng\+filter\s+([\d.]+)"),
+        ],
+    ),
+    "singular": (
+        ["bench_singular.py"],
+        [
+            Goal("MS4 singular analysis / 3600-frame dense sweep", 10.0,
+                 r"MS4 four-bar\s+singular_analysis .*?ratio\s+([\d.]+)"),
+        ],
+    ),
+}  # fmt: skip
+
+
+def load() -> str:
+    return " ".join(Path("/proc/loadavg").read_text().split()[:3])
+
+
+def run(script: list[str]) -> str:
+    """The script's output (it fails loudly: a benchmark that breaks is not a pass)."""
+    done = subprocess.run(
+        [sys.executable, str(HERE / script[0]), *script[1:]],
+        cwd=HERE,
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, PYTHONUNBUFFERED="1"),
+    )
+    if done.returncode != 0:
+        raise SystemExit(f"{script[0]} failed:\n{done.stdout}\n{done.stderr}")
+    return done.stdout
+
+
+def ratio(goal: Goal, text: str) -> float | None:
+    found = [float(m.group(1)) / goal.per for m in re.finditer(goal.pattern, text, re.MULTILINE)]
+    return found[goal.nth] if len(found) > goal.nth else None
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument(
+        "--only", default=",".join(GOALS), help="benchmarks to run: " + ", ".join(GOALS)
+    )
+    ap.add_argument("--verbose", action="store_true", help="print each benchmark's output")
+    args = ap.parse_args()
+    chosen = [k for k in args.only.split(",") if k]
+    unknown = set(chosen) - set(GOALS)
+    if unknown:
+        ap.error(f"unknown benchmark(s): {', '.join(sorted(unknown))}")
+    found: dict[str, list[float | None]] = {}
+    for r in range(args.runs):
+        print(f"round {r + 1} of {args.runs}, load {load()}", flush=True)
+        for key in chosen:
+            script, goals = GOALS[key]
+            t0 = time.perf_counter()
+            text = run(script)
+            if args.verbose:
+                print(text)
+            shown = []
+            for goal in goals:
+                value = ratio(goal, text)
+                found.setdefault(goal.label, []).append(value)
+                shown.append("-" if value is None else f"{value:.2f}")
+            took = time.perf_counter() - t0
+            print(f"  {key:<11} {', '.join(shown):<28} ({took:.0f} s, load {load()})", flush=True)
+    print(f"\n{'goal (ratio)':<50} {'limit':>5}  {'rounds':<24} verdict")
+    for key in chosen:
+        for goal in GOALS[key][1]:
+            values = found[goal.label]
+            if all(v is None for v in values):
+                verdict = "NOT MEASURED (peer absent or output changed)"
+            elif any(v is None for v in values):
+                verdict = "INCOMPLETE"
+            else:
+                held = sum(v <= goal.limit for v in values if v is not None)
+                verdict = "PASS" if held == len(values) else f"FAIL ({held} of {len(values)})"
+            rounds = " ".join("-" if v is None else f"{v:.2f}" for v in values)
+            print(f"{goal.label:<50} {goal.limit:5.2f}  {rounds:<24} {verdict}")
+
+
+if __name__ == "__main__":
+    main()
