@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from mjstruct.kinematics.closure_path import row_max
 from mjstruct.kinematics.evaluate import Evaluation, evaluate
 from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import NEWTON_TOL, STALL_ERROR
@@ -129,10 +130,7 @@ def closure_jacobian(
 
 def largest(R: FloatArray) -> FloatArray:
     """max |R| of each row (frames × equations): the closure error in lengths."""
-    if R.shape[1] == 1:  # one equation: the column itself (no reduction)
-        return np.abs(R[:, 0])
-    out: FloatArray = np.abs(R).max(axis=1)
-    return out
+    return row_max(np.abs(R))
 
 
 def solve_stacked(J: FloatArray, b: FloatArray) -> FloatArray:
@@ -159,7 +157,7 @@ def newton_step(J: FloatArray, R: FloatArray) -> FloatArray:
     """Newton step -J⁻¹R, non-finite parts zeroed, at most half a radian."""
     step = -solve_stacked(J, R)
     step = np.where(np.isfinite(step), step, 0.0)
-    big = np.abs(step).max(axis=1, keepdims=True)
+    big = row_max(np.abs(step))[:, None]
     out: FloatArray = step * np.minimum(1.0, 0.5 / np.maximum(big, 1e-300))
     return out
 

@@ -155,8 +155,12 @@ class StationWindow:
         known: int = 0,
     ) -> None:
         """New stations at ``sv`` (driver values ``qv``), guesses ``g``, before ``at``."""
-        # np.insert's result in one gather per field: new station j lands at at[j] + j
         n, m = self.size, sv.size
+        if n == 0:  # an empty window: the new stations are the window
+            for name, v in self._fresh(sv, qv, g, known).items():
+                setattr(self, name, v)
+            return
+        # np.insert's result in one gather per field: new station j lands at at[j] + j
         slot = np.zeros(n + m, bool)
         slot[at + np.arange(m)] = True
         perm = np.empty(n + m, np.intp)
