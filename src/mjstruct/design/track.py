@@ -132,7 +132,7 @@ class TrackProblem(FitProblem):
         # untimed: the cycle's samples the targets are matched to; timed: the range's
         # samples (dead points are only screened here: the verdict sweeps finely)
         samples = int(task.solver["samples"])
-        self.samples = max(samples, 4 * n) if timing is None else max(samples // 2, 8)
+        self.samples = max(samples, 4 * n) if timing is None else max(samples // 4, 8)
         self.pairs = link_pairs(space.model.mechanism) if task.lengths else []
         self.ng = space.size
         self.extra_starts = list(starts)
