@@ -413,6 +413,16 @@ def test_workers_are_capped_at_the_core_count(monkeypatch):
     assert parallel.core_count() >= 1
 
 
+def test_results_as_they_come_are_all_there() -> None:
+    from mjstruct.synthesis.parallel import run_tasks
+
+    tasks = list(range(-40, 0))
+    for workers in (1, 2):
+        got = list(run_tasks(abs, tasks, workers=workers, as_done=True))
+        assert sorted(got) == list(range(1, 41))
+        assert list(run_tasks(abs, tasks, workers=workers)) == [abs(t) for t in tasks]
+
+
 def _children(pid: int) -> list[int]:
     try:
         with open(f"/proc/{pid}/task/{pid}/children") as fh:

@@ -412,21 +412,24 @@ def atlas(
     # the largest tasks (most branch vertices) first, so that no worker is left with
     # one at the end; the chains are sorted afterwards, so the order does not matter
     tasks = atlas_tasks(F, n, mj, fractionated)[::-1]
-    from mjstruct.synthesis.parallel import run_tasks
+    from mjstruct.synthesis.parallel import collection_paused, run_tasks
 
     # a task's chains share (V, [MJA], [LA]), which no other task has, and come
-    # sorted by code: ordering the tasks is ordering the chains by sort_key
-    done = [
-        c
-        for c in run_tasks(
-            _task_compact, tasks, workers=workers, progress=progress, scheduler=scheduler
-        )
-        if c.joints
-    ]
-    done.sort(key=lambda c: (c.V, c.MJA, c.LA))
-    from mjstruct.synthesis.parallel import collection_paused
-
+    # sorted by code: ordering the tasks is ordering the chains by sort_key.  Each
+    # task's chains are made as it comes in, while the workers run the others.
+    done = []
     with collection_paused():  # many objects, no cycles
-        for compact in done:
-            result.chains.extend(compact.chains())
+        for compact in run_tasks(
+            _task_compact,
+            tasks,
+            workers=workers,
+            progress=progress,
+            scheduler=scheduler,
+            as_done=True,
+        ):
+            if compact.joints:
+                done.append(((compact.V, compact.MJA, compact.LA), compact.chains()))
+    done.sort(key=lambda made: made[0])
+    for _, chains in done:
+        result.chains.extend(chains)
     return result

@@ -38,7 +38,7 @@ import numpy as np
 
 from mjstruct.structure.isomorphism import QUOTIENT_VERTICES, code_of
 from mjstruct.synthesis.contracted import ContractedGraph
-from mjstruct.synthesis.nauty_calls import LightGraph, canon_label
+from mjstruct.synthesis.nauty_calls import LightGraph, canon_labels
 
 Joints = tuple[tuple[int, ...], ...]
 
@@ -160,19 +160,28 @@ def _labelled(
     p = n_simple + len(sizes)
     nv = n + p
     keys = range(n, nv)
-    graph = LightGraph(nv, {}, [range(n), range(n, nv)])
-    if len(set(sizes)) <= 1:  # multiple joints of one size: nested lists in one call
-        on_joints = members.reshape(R, len(sizes), sizes[0] if sizes else 0).tolist()
+    # a simple joint's adjacency: one shared list per pair of links (nauty only reads
+    # them), looked up by a + n b: no nested lists made per chain
+    pair_lists = [[a, b] for b in range(n) for a in range(n)]
+    pair_index = (simple[:, :, 0] + n * simple[:, :, 1]).tolist()
+    if not sizes:
+        graphs = (
+            dict(zip(keys, map(pair_lists.__getitem__, row), strict=True)) for row in pair_index
+        )
     else:
-        bounds = np.cumsum([0, *sizes]).tolist()
-        on_joints = [
-            [links[bounds[q] : bounds[q + 1]] for q in range(len(sizes))]
-            for links in members.tolist()
-        ]
-    labs = []
-    for pairs, multiple in zip(simple.tolist(), on_joints, strict=True):
-        graph.adjacency_dict = dict(zip(keys, pairs + multiple, strict=True))
-        labs.append(canon_label(graph))
+        if len(set(sizes)) == 1:  # multiple joints of one size: nested lists in one call
+            on_joints = members.reshape(R, len(sizes), sizes[0]).tolist()
+        else:
+            bounds = np.cumsum([0, *sizes]).tolist()
+            on_joints = [
+                [links[bounds[q] : bounds[q + 1]] for q in range(len(sizes))]
+                for links in members.tolist()
+            ]
+        graphs = (
+            dict(zip(keys, [*map(pair_lists.__getitem__, row), *multiple], strict=True))
+            for row, multiple in zip(pair_index, on_joints, strict=True)
+        )
+    labs = canon_labels(LightGraph(nv, {}, [range(n), range(n, nv)]), graphs)
     where = np.argsort(np.array(labs, dtype=np.int64), axis=1)  # vertex -> position
     rows = np.arange(R)[:, None]
     # canonical positions of the links on each joint, sorted within the joint

@@ -21,7 +21,7 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Iterable, Sequence
 from typing import Any
 
 import pynauty
@@ -80,6 +80,22 @@ def certificate(g: LightGraph) -> bytes:
 def canon_label(g: LightGraph) -> list[int]:
     """nauty's canonical labelling: entry i is the vertex put at position i."""
     out: list[int] = _c.graph_canonlab(g) if _c is not None else pynauty.canon_label(_public(g))
+    return out
+
+
+def canon_labels(g: LightGraph, adjacencies: Iterable[dict[int, list[int]]]) -> list[list[int]]:
+    """:func:`canon_label` of ``g`` with each adjacency in turn (the graphs of one
+    order and colouring: one object, one C call each)."""
+    if _c is None:  # pragma: no cover - a pynauty without its C module
+        return [
+            canon_label(LightGraph(g.number_of_vertices, a, g.vertex_coloring))
+            for a in adjacencies
+        ]
+    label = _c.graph_canonlab
+    out = []
+    for adjacency in adjacencies:
+        g.adjacency_dict = adjacency
+        out.append(label(g))
     return out
 
 

@@ -51,8 +51,10 @@ def run_tasks(
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
     scheduler: str | None = None,
+    as_done: bool = False,
 ) -> Iterator[Any]:
-    """Yield ``fn(task)`` for every task, in task order.
+    """Yield ``fn(task)`` for every task, in task order (``as_done``: as each result
+    comes in, so that the caller's work on it overlaps the workers' on the rest).
 
     ``workers > 1`` uses a :class:`multiprocessing.pool.Pool` (terminated on any
     early exit);
@@ -63,7 +65,7 @@ def run_tasks(
     total = len(tasks)
     workers = min(workers, core_count())
     if scheduler is not None:
-        yield from _run_dask(fn, tasks, scheduler, progress)
+        yield from _run_dask(fn, tasks, scheduler, progress, as_done)
         return
     if workers <= 1 or total <= 1:
         for k, task in enumerate(tasks):
@@ -79,10 +81,13 @@ def run_tasks(
     with multiprocessing.Pool(workers, initializer=_quiet_worker, initargs=(os.getpid(),)) as pool:
         calls = [(fn, k, task) for k, task in enumerate(tasks)]
         for done, (k, value) in enumerate(pool.imap_unordered(_indexed_call, calls), 1):
-            results[k] = value
             if progress:
                 progress(done, total)
-    for k in range(total):
+            if as_done:
+                yield value
+            else:
+                results[k] = value
+    for k in range(total) if not as_done else ():
         yield results[k]
 
 
@@ -109,6 +114,7 @@ def _run_dask(
     tasks: Sequence[Any],
     scheduler: str,
     progress: Callable[[int, int], None] | None,
+    as_done: bool = False,
 ) -> Iterator[Any]:
     try:
         from dask.distributed import Client, as_completed
@@ -123,10 +129,13 @@ def _run_dask(
         index = {f.key: k for k, f in enumerate(futures)}
         results: dict[int, Any] = {}
         for done, fut in enumerate(as_completed(futures), 1):
-            results[index[fut.key]] = fut.result()
             if progress:
                 progress(done, len(tasks))
-    for k in range(len(tasks)):
+            if as_done:
+                yield fut.result()
+            else:
+                results[index[fut.key]] = fut.result()
+    for k in range(len(tasks)) if not as_done else ():
         yield results[k]
 
 
