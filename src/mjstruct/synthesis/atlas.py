@@ -330,6 +330,8 @@ def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains
             K = sum(len(j) - 1 for j in first) - chains.n + 1
             labelled.extend((code, canon, kind) for code, canon in labelled_chains(chains, shared))
         labelled.sort()  # by code (codes differ)
+    del found, shared
+    _return_free_memory()  # before the result is pickled and the next task starts
     return TaskChains(
         n,
         la,

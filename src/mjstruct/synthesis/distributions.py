@@ -42,8 +42,9 @@ import numpy as np
 from mjstruct.synthesis.contracted import ContractedGraph
 from mjstruct.synthesis.nauty_calls import automorphism_generators, light_graph
 
-ROWS = 8192
-"""Rows of partial distributions extended at once (bounds the memory of a level)."""
+ROWS = 2048
+"""Rows of partial distributions extended at once (bounds the memory of a level: a
+worker of the 12-link MJ atlas peaks 12 MB lower than with 8192, at the same speed)."""
 
 KEY_CELLS = 1 << 21
 """Row x automorphism pairs compared at once when keeping orbit representatives."""

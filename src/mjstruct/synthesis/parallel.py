@@ -80,7 +80,9 @@ def run_tasks(
     # error) terminates the workers at once instead of waiting for their tasks
     with multiprocessing.Pool(workers, initializer=_quiet_worker, initargs=(os.getpid(),)) as pool:
         calls = [(fn, k, task) for k, task in enumerate(tasks)]
-        for done, (k, value) in enumerate(pool.imap_unordered(_indexed_call, calls), 1):
+        results_in = pool.imap_unordered(_indexed_call, calls)
+        pool.close()  # no more tasks: each worker ends (its memory freed) after its last
+        for done, (k, value) in enumerate(results_in, 1):
             if progress:
                 progress(done, total)
             if as_done:
