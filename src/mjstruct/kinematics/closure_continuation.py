@@ -114,7 +114,9 @@ def continue_stations(
     does not close there ends the continuation), unless, given ``flips``, an inner
     dyad at its own dead point flips its mode there and the stations go on
     (:func:`~mjstruct.kinematics.closure_modes.try_flip`; the flips are added to
-    ``flips``, and every station beyond takes them).
+    ``flips``, and every station beyond takes them).  The tangent at the reference in
+    the reference's modes is the model's own: it is found once per model, tolerance and
+    direction (kept on the model, like its plan) and read by later calls.
     """
     k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
     inner = () if flips is None else inner_mode_steps(model, only)
@@ -140,7 +142,15 @@ def continue_stations(
         iters = min(maxiter, STATION_ITERATIONS)
         return station_newton(model, path.at(s1)[0], guess, modes(s1), tol, iters, only, dirn)
 
-    _, D0 = station(0.0, np.zeros(k))
+    if K is None and (flips is None or not flips):
+        # the reference's tangent is the model's (at the reference's modes): found once
+        memo = model.__dict__.setdefault("_reference_tangent", {})
+        key = (tol, maxiter, only, path.directions(np.zeros(1))[0].tobytes())
+        if key not in memo:
+            memo[key] = station(0.0, np.zeros(k))[1]
+        D0 = None if memo[key] is None else memo[key].copy()
+    else:
+        _, D0 = station(0.0, np.zeros(k))
     S, TT, DD = [0.0], [np.zeros(k)], [np.zeros(k) if D0 is None else finite_or_zero(D0)]
     win = StationWindow(k, path.points.shape[1])
     wdir, wend = np.zeros(0), total
