@@ -304,7 +304,7 @@ def _task_chains(task: tuple[tuple[Vertex, ...], int, int, bool]) -> list[Chain]
 def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains:
     """:func:`_task_chains` as :class:`TaskChains` (what a worker sends back)."""
     from mjstruct.synthesis.distributions import distributions_of
-    from mjstruct.synthesis.expansion import expand_rows, labelled_chains
+    from mjstruct.synthesis.expansion import expand_rows, labelled_lists
     from mjstruct.synthesis.parallel import collection_paused
 
     sequence, n, F, fractionated = task
@@ -316,7 +316,9 @@ def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains
     with _one_blas_thread(), collection_paused():
         found = [(cg, rows) for cg, rows in distributions_of(graphs, binaries) if len(rows)]
     kinds = [2 * cg.is_planar() + cg.is_fractionated() for cg, _ in found]
-    labelled: list[tuple[str, Joints, int]] = []
+    codes: list[str] = []
+    joints: list[Joints] = []
+    flags = bytearray()
     shared: dict[tuple[int, int], dict[int, tuple[int, ...]]] = {}  # a tuple per joint
     la: tuple[int, ...] = ()
     mja: tuple[int, ...] = ()
@@ -328,8 +330,14 @@ def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains
             la, mja = _assortments(chains.n, first)  # the task fixes them
             V = sum((k + 1) * nu for k, nu in enumerate(mja))
             K = sum(len(j) - 1 for j in first) - chains.n + 1
-            labelled.extend((code, canon, kind) for code, canon in labelled_chains(chains, shared))
-        labelled.sort()  # by code (codes differ)
+            more_codes, more_joints = labelled_lists(chains, shared)
+            codes += more_codes
+            joints += more_joints
+            flags += bytes([kind]) * len(more_codes)
+        order = sorted(range(len(codes)), key=codes.__getitem__)  # by code (codes differ)
+        codes = [codes[k] for k in order]
+        joints = [joints[k] for k in order]
+        flags = bytearray(flags[k] for k in order)
     del found, shared
     _return_free_memory()  # before the result is pickled and the next task starts
     return TaskChains(
@@ -339,9 +347,9 @@ def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains
         V,
         K,
         F,
-        "\n".join([code for code, _, _ in labelled]),
-        [joints for _, joints, _ in labelled],
-        bytes([kind for _, _, kind in labelled]),
+        "\n".join(codes),
+        joints,
+        bytes(flags),
     )
 
 

@@ -132,21 +132,38 @@ def labelled_chains(
 ) -> list[tuple[str, Joints]]:
     """Canonical code and canonical joints (sorted, links in nauty's canonical order)
     of every chain.  ``shared`` keeps one tuple per distinct joint across calls."""
+    codes, joints = labelled_lists(chains, shared)
+    return list(zip(codes, joints, strict=True))
+
+
+def labelled_lists(
+    chains: ExpandedChains, shared: dict[tuple[int, int], dict[int, tuple[int, ...]]] | None = None
+) -> tuple[list[str], list[Joints]]:
+    """:func:`labelled_chains` as two lists, the codes and the joints (no pair per chain)."""
     n, p = chains.n, chains.simple.shape[1] + len(chains.sizes)
+    codes: list[str] = []
+    joints: list[Joints] = []
     if not len(chains):
-        return []
+        return codes, joints
     if n + p >= QUOTIENT_VERTICES:  # large chains: as canonical_code does them
         from mjstruct.synthesis.atlas import canonical_chain
 
-        return [canonical_chain(n, chains.joints(r)) for r in range(len(chains))]
+        for r in range(len(chains)):
+            code, canon = canonical_chain(n, chains.joints(r))
+            codes.append(code)
+            joints.append(canon)
+        return codes, joints
     if shared is None:
         shared = {}
     table = shared.setdefault((n, max([2, *chains.sizes])), {})
-    out: list[tuple[str, Joints]] = []
     for lo in range(0, len(chains), BATCH):
         part = slice(lo, lo + BATCH)
-        out.extend(_labelled(n, chains.simple[part], chains.members[part], chains.sizes, table))
-    return out
+        more_codes, more_joints = _labelled(
+            n, chains.simple[part], chains.members[part], chains.sizes, table
+        )
+        codes += more_codes
+        joints += more_joints
+    return codes, joints
 
 
 def _labelled(
@@ -155,7 +172,7 @@ def _labelled(
     members: np.ndarray,
     sizes: tuple[int, ...],
     shared: dict[int, tuple[int, ...]],
-) -> list[tuple[str, Joints]]:
+) -> tuple[list[str], list[Joints]]:
     R, n_simple = simple.shape[0], simple.shape[1]
     p = n_simple + len(sizes)
     nv = n + p
@@ -216,7 +233,11 @@ def _labelled(
             shared[key] = tuple(d - 1 for d in digits if d)
     sizes_text = f"{n}.{p}"
     lookup = shared.__getitem__
-    return [
-        (code_of("c", n, p, sizes_text, cert.tobytes()), tuple(map(lookup, row)))
-        for cert, row in zip(words, joint_keys.tolist(), strict=True)
-    ]
+    codes = [code_of("c", n, p, sizes_text, cert) for cert in _rows_as_bytes(words)]
+    return codes, [tuple(map(lookup, row)) for row in joint_keys.tolist()]
+
+
+def _rows_as_bytes(words: np.ndarray) -> list[bytes]:
+    """Each row (first axis) of ``words`` as bytes: one copy, then slices."""
+    blob, step = words.tobytes(), words[0].nbytes if len(words) else 0
+    return [blob[start : start + step] for start in range(0, len(blob), step)]
