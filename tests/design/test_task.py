@@ -196,3 +196,20 @@ def test_command_refuses_an_output_that_is_not_a_mechanism_file(tmp_path, capsys
     assert main(["synthesize", str(task), "-o", str(tmp_path / "out.png")]) == 2
     assert capsys.readouterr().err.startswith("mjstruct synthesize: -o")
     assert list(tmp_path.iterdir()) == [task]
+
+
+def test_timed_targets_default_to_fewer_generations() -> None:
+    """Timed targets (a timing list, or a function task) default to TIMED_GENERATIONS
+    global generations, untimed ones to SOLVER_DEFAULTS'; a given value is kept."""
+    from mjstruct.design.task import SOLVER_DEFAULTS, TIMED_GENERATIONS
+
+    assert TIMED_GENERATIONS < SOLVER_DEFAULTS["generations"]
+    untimed = task_from_dict(_task())
+    timed = task_from_dict(_task(timing=[0.1, 0.2, 0.3]))
+    function = task_from_dict(_task(task="function", point=None))
+    given = task_from_dict(_task(timing=[0.1, 0.2, 0.3], solver={"generations": 150}))
+    assert untimed.solver["generations"] == SOLVER_DEFAULTS["generations"]
+    assert timed.solver["generations"] == TIMED_GENERATIONS
+    assert function.solver["generations"] == TIMED_GENERATIONS
+    assert given.solver["generations"] == 150
+    assert timed.solver["population"] == SOLVER_DEFAULTS["population"]
