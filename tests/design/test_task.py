@@ -203,7 +203,7 @@ def test_timed_targets_default_to_fewer_generations() -> None:
     global generations, untimed ones to SOLVER_DEFAULTS'; a given value is kept."""
     from mjstruct.design.task import SOLVER_DEFAULTS, TIMED_GENERATIONS
 
-    assert TIMED_GENERATIONS < SOLVER_DEFAULTS["generations"]
+    assert SOLVER_DEFAULTS["generations"] > TIMED_GENERATIONS
     untimed = task_from_dict(_task())
     timed = task_from_dict(_task(timing=[0.1, 0.2, 0.3]))
     function = task_from_dict(_task(task="function", point=None))
