@@ -25,10 +25,10 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from dataclasses import dataclass
 
-from mjstruct.synthesis.nauty_calls import certificate, light_graph
+from mjstruct.synthesis.nauty_calls import LightGraph, certificate
 
 Vertex = tuple[str, int]  # (colour "L" or "J", degree)
 
@@ -129,21 +129,42 @@ def degree_sequences(K: int, mj: bool) -> list[tuple[Vertex, ...]]:
     return sorted(set(out), key=lambda s: (len(s), [(-d, c) for c, d in s]))
 
 
+PartialKey = tuple[tuple[tuple[tuple[str, int, int], int], ...], bytes]
+"""A partial multigraph up to isomorphism: its colour classes (key, size) in a fixed
+order, and nauty's certificate with the vertices partitioned in that order."""
+
+
 def _certificate(
     colours: list[str], done: list[bool], residual: list[int], edges: list[tuple[int, int]]
-) -> bytes:
-    """Nauty certificate of a (partial) multigraph; edges become coloured nodes."""
+) -> PartialKey:
+    """Nauty certificate of a (partial) multigraph; edges become coloured nodes (an
+    edge node's colour: "edge", or "loop" for an edge from a vertex to itself)."""
     nv = len(colours)
-    classes: dict[tuple[int, str, int], set[int]] = {}
-    for v in range(nv):
-        key = (0, colours[v], -1 if done[v] else residual[v])
-        classes.setdefault(key, set()).add(v)
+    keys = [
+        (colour, -1 if finished else left, 0)
+        for colour, finished, left in zip(colours, done, residual, strict=True)
+    ]
+    adjacency: dict[int, list[int]] = {}
+    plain: list[int] = []
+    loops: list[int] = []
     for k, (u, v) in enumerate(edges):
-        classes.setdefault((1, "loop" if u == v else "edge", 0), set()).add(nv + k)
-    ends = [[u] if u == v else [u, v] for u, v in edges]
-    g = light_graph(nv, ends, [classes[k] for k in sorted(classes)])
-    tag = repr(sorted((k, len(c)) for k, c in classes.items())).encode()
-    return tag + b"|" + certificate(g)
+        if u == v:
+            adjacency[nv + k] = [u]
+            loops.append(nv + k)
+        else:
+            adjacency[nv + k] = [u, v]
+            plain.append(nv + k)
+    classes: list[tuple[tuple[str, int, int], int]] = []
+    partition: list[Collection[int]] = []
+    for key in sorted(set(keys)):
+        members = [v for v in range(nv) if keys[v] == key]
+        classes.append((key, len(members)))
+        partition.append(members)
+    for name, members in (("edge", plain), ("loop", loops)):  # after the vertices
+        if members:
+            classes.append(((name, 0, 1), len(members)))
+            partition.append(members)
+    return tuple(classes), certificate(LightGraph(nv + len(edges), adjacency, partition))
 
 
 def _spread(
@@ -182,13 +203,12 @@ def contracted_graphs(sequence: tuple[Vertex, ...], fractionated: bool) -> list[
     """
     colours = [c for c, _ in sequence]
     nv = len(colours)
-    states: dict[bytes, tuple[list[int], list[tuple[int, int]]]] = {
-        b"": ([d for _, d in sequence], [])
-    }
+    states: dict[PartialKey, tuple[list[int], list[tuple[int, int]]]] = {}
+    partial = [([d for _, d in sequence], list[tuple[int, int]]())]
     for i in range(nv):
-        nxt: dict[bytes, tuple[list[int], list[tuple[int, int]]]] = {}
+        nxt: dict[PartialKey, tuple[list[int], list[tuple[int, int]]]] = {}
         done = [k <= i for k in range(nv)]
-        for residual, edges in states.values():
+        for residual, edges in partial:
             for new in _complete_vertex(i, residual, fractionated, colours):
                 res = list(residual)
                 res[i] = 0
@@ -200,6 +220,7 @@ def contracted_graphs(sequence: tuple[Vertex, ...], fractionated: bool) -> list[
                 if cert not in nxt:
                     nxt[cert] = (res, all_edges)
         states = nxt
+        partial = list(nxt.values())
     out = []
     for cert in sorted(states):
         _, edges = states[cert]
