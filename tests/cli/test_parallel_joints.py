@@ -396,6 +396,43 @@ def test_sigterm_at_any_moment_stops_the_command(tmp_path, delay) -> None:
     assert spent < 1.0 and waited < 10, (spent, waited)
 
 
+def test_a_reader_that_stopped_reading_does_not_hold_sigterm() -> None:
+    # the answer is written whole while the reader takes it; a reader that stopped must
+    # not keep the command alive: SIGTERM acts within about a second
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    four_bar = str(ROOT / "catalogs" / "examples" / "four-bar.json")
+    argv = ["kinematics", four_bar, "--frames", "20000", "--json"]  # about 12 MB of JSON
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mjstruct", *argv],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env=env,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        written = 0
+        while written < 16384:  # the answer is being written; nothing reads it
+            assert proc.poll() is None and time.monotonic() < deadline
+            time.sleep(0.05)
+            io_lines = Path(f"/proc/{proc.pid}/io").read_text().splitlines()
+            written = int(next(x for x in io_lines if x.startswith("wchar:")).split()[1])
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        status = proc.wait(timeout=30)
+        waited = time.monotonic() - sent
+        assert proc.stderr is not None
+        err = proc.stderr.read()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        for pipe in (proc.stdout, proc.stderr):
+            if pipe is not None:
+                pipe.close()
+    assert status == 143 and err == b"mjstruct: terminated\n"
+    assert waited < 10, waited
+
+
 def test_ctrl_c_while_the_command_is_imported_is_one_line() -> None:
     # the import of the command, made to take the KeyboardInterrupt a Ctrl-C raises
     probe = (

@@ -19,8 +19,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
+import select
 import signal
+import stat
 import sys
 import threading
 from collections.abc import Iterator
@@ -62,16 +65,38 @@ def emit_json(obj: Any) -> None:
 
 def _write_whole(text: str) -> None:
     """Standard output written whole: a SIGINT or SIGTERM arriving meanwhile waits until
-    the text is out (a reader never gets half a JSON object), then stops the command."""
+    the text is out (a reader never gets half a JSON object), then stops the command;
+    but it waits no more than a second for a reader that has stopped reading."""
     held = {signal.SIGINT, signal.SIGTERM}
-    in_main = threading.current_thread() is threading.main_thread()
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, held) if in_main else None
-    try:
+    if threading.current_thread() is not threading.main_thread():
         sys.stdout.write(text)
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        try:
+            fd = sys.stdout.fileno()
+        except (AttributeError, OSError, ValueError):  # a stream in memory never blocks
+            sys.stdout.write(text)
+            sys.stdout.flush()
+            return
         sys.stdout.flush()
+        _write_fd(fd, text.encode(sys.stdout.encoding, sys.stdout.errors or "strict"), held)
     finally:
-        if old is not None:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _write_fd(fd: int, data: bytes, held: set[signal.Signals]) -> None:
+    """``data`` to ``fd`` in pieces a pipe takes without blocking, while no held signal is
+    pending, or while the reader keeps taking them (a second at most between pieces)."""
+    view = memoryview(data)
+    piece = len(data) if stat.S_ISREG(os.fstat(fd).st_mode) else select.PIPE_BUF
+    while view:
+        pending = bool(signal.sigpending() & held)
+        if not select.select([], [fd], [], 1.0 if pending else 0.2)[1]:
+            if pending:
+                return  # the reader stopped: the signal acts, the output stays short
+            continue
+        view = view[os.write(fd, view[:piece]) :]
 
 
 _CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
