@@ -191,18 +191,17 @@ def test_codes_with_parallel_chains_agree_with_nauty_on_the_whole_graph(spec, da
             b_specs[pick] = specs[pick]
     a = _with_bundles(base, specs, odd_a)
     b = _shuffled(_with_bundles(base, b_specs, odd_b), data.draw(st.integers()))
-    same = _full_certificate(a, level) == _full_certificate(b, level)
-    sizes = [len(c) for c in colour_classes(a, level)] == [
-        len(c) for c in colour_classes(b, level)
-    ]
-    assert (canonical_code(a, level) == canonical_code(b, level)) == (same and sizes)
+    same = _codes_agree_with_nauty_on_the_whole_graph(a, b, level)
     assert same or change != "none"
 
 
 @settings(max_examples=80, deadline=None)
 @given(bundled(big=False))
 def test_loops_with_parallel_chains_agree_with_the_exhaustive_search(spec) -> None:
-    m = _with_bundles(*spec)
+    _loops_agree_with_the_exhaustive_search(_with_bundles(*spec))
+
+
+def _loops_agree_with_the_exhaustive_search(m: Mechanism) -> None:
     try:
         exact = loops._minimal_faces(m.adjacency)  # every drawing of the whole graph
     except loops._TooMany:
@@ -221,6 +220,17 @@ def _full_certificate(m: Mechanism, level: str = "mechanism") -> bytes:
     classes = colour_classes(m, level)
     cert: bytes = pynauty.certificate(nauty_graph(len(m.links), link_joint_lists(m), classes))
     return cert
+
+
+def _codes_agree_with_nauty_on_the_whole_graph(a: Mechanism, b: Mechanism, level: Level) -> bool:
+    """Equal codes exactly when nauty on the whole graphs (and the colour classes' sizes)
+    say the two are isomorphic; returns whether they are."""
+    same = _full_certificate(a, level) == _full_certificate(b, level)
+    sizes = [len(c) for c in colour_classes(a, level)] == [
+        len(c) for c in colour_classes(b, level)
+    ]
+    assert (canonical_code(a, level) == canonical_code(b, level)) == (same and sizes)
+    return same
 
 
 @st.composite
@@ -258,24 +268,13 @@ def test_codes_with_parallel_joints_agree_with_nauty_on_the_whole_graph(a, b, se
     # relabelled: isomorphic, so equal codes; a against b: equal exactly when nauty on
     # the whole graphs says so
     assert canonical_code(relabelled(a, seed), "chain") == canonical_code(a, "chain")
-    same = _full_certificate(a, level) == _full_certificate(b, level)
-    sizes = [len(c) for c in colour_classes(a, level)] == [
-        len(c) for c in colour_classes(b, level)
-    ]
-    assert (canonical_code(a, level) == canonical_code(b, level)) == (same and sizes)  # type: ignore[arg-type]
+    _codes_agree_with_nauty_on_the_whole_graph(a, b, level)
 
 
 @settings(max_examples=40, deadline=None)
 @given(with_parallels(big=False))
 def test_loops_with_parallel_joints_agree_with_the_exhaustive_search(m) -> None:
-    try:
-        exact = loops._minimal_faces(m.adjacency)  # every drawing of the whole graph
-    except loops._TooMany:
-        return
-    got = loop_assortment(m)
-    assert (got is None) == (exact is None)
-    if got is not None:
-        assert got.sizes == exact and got.rule == "minimal"
+    _loops_agree_with_the_exhaustive_search(m)
 
 
 def test_the_quotient_applies_only_to_large_graphs() -> None:
@@ -295,6 +294,16 @@ def _blocks(count: int) -> dict[str, object]:
         a, b, c = f"a{i}", f"b{i}", f"c{i}"
         joints += [["0", a], [a, b], [b, "0"], [a, c], [c, "0"]]
     return {"frame": "0", "joints": [{"id": f"J{k}", "links": js} for k, js in enumerate(joints)]}
+
+
+_ENV = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+
+
+def _command(*argv: str, stdout: int = subprocess.PIPE) -> subprocess.Popen[bytes]:
+    """``python -m mjstruct ARGV`` running from this checkout, its errors on a pipe."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "mjstruct", *argv], stdout=stdout, stderr=subprocess.PIPE, env=_ENV
+    )
 
 
 def _children(pid: int) -> bytes:
@@ -337,13 +346,7 @@ def _reaped_cpu() -> float:
 def test_a_signal_stops_a_long_nauty_run_at_once(tmp_path, signum, status, line) -> None:
     path = tmp_path / "blocks.json"
     path.write_text(json.dumps(_blocks(1000)))
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "mjstruct", "analyze", str(path), "--json", "--no-loops"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        env=env,
-    )
+    proc = _command("analyze", str(path), "--json", "--no-loops", stdout=subprocess.DEVNULL)
     try:
         # whatever the load: signal once nauty runs in its worker (the long phase)
         deadline = time.monotonic() + 120
@@ -371,13 +374,7 @@ def test_sigterm_at_any_moment_stops_the_command(tmp_path, delay) -> None:
     # code, killed by the signal as any program is: no output either way)
     path = tmp_path / "paths.json"
     path.write_text(json.dumps(_paths(5000)))
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "mjstruct", "analyze", str(path), "--json"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        env=env,
-    )
+    proc = _command("analyze", str(path), "--json")
     try:
         time.sleep(delay)
         sent, cpu = time.monotonic(), _AfterSignal(proc.pid)
@@ -399,15 +396,8 @@ def test_sigterm_at_any_moment_stops_the_command(tmp_path, delay) -> None:
 def test_a_reader_that_stopped_reading_does_not_hold_sigterm() -> None:
     # the answer is written whole while the reader takes it; a reader that stopped must
     # not keep the command alive: SIGTERM acts within about a second
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     four_bar = str(ROOT / "catalogs" / "examples" / "four-bar.json")
-    argv = ["kinematics", four_bar, "--frames", "20000", "--json"]  # about 12 MB of JSON
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "mjstruct", *argv],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        env=env,
-    )
+    proc = _command("kinematics", four_bar, "--frames", "20000", "--json")  # ~12 MB of JSON
     try:
         deadline = time.monotonic() + 120
         written = 0
@@ -444,8 +434,7 @@ def test_ctrl_c_while_the_command_is_imported_is_one_line() -> None:
         "sys.meta_path.insert(0, Stop())\n"
         "runpy.run_module('mjstruct', run_name='__main__')\n"
     )
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, env=env, timeout=60)
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, env=_ENV, timeout=60)
     assert (p.returncode, p.stderr, p.stdout) == (130, b"mjstruct: interrupted\n", b"")
 
 
