@@ -178,23 +178,10 @@ def _pow10(x: float) -> float:
 #: operator nodes: children of an operation without a value of their own
 _OPERATORS = (ast.operator, ast.unaryop, ast.cmpop, ast.boolop, ast.expr_context)
 
-#: constant functions evaluated with complex doubles (the rest are left unevaluated)
+#: constant functions evaluated with complex doubles: the loads' functions that cmath
+#: has (the rest are left unevaluated)
 _COMPLEX_FUNCTIONS: dict[str, Callable[..., complex]] = {
-    name: getattr(cmath, name)
-    for name in (
-        "sin",
-        "cos",
-        "tan",
-        "asin",
-        "acos",
-        "atan",
-        "sinh",
-        "cosh",
-        "tanh",
-        "exp",
-        "log",
-        "sqrt",
-    )
+    name: getattr(cmath, name) for name in FUNCTIONS if hasattr(cmath, name)
 }
 
 
