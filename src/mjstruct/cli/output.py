@@ -67,18 +67,16 @@ def _write_whole(text: str) -> None:
     """Standard output written whole: a SIGINT or SIGTERM arriving meanwhile waits until
     the text is out (a reader never gets half a JSON object), then stops the command;
     but it waits no more than a second for a reader that has stopped reading."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    if threading.current_thread() is not threading.main_thread():
+    try:
+        fd: int | None = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # a stream in memory: one call
+        fd = None
+    if fd is None or threading.current_thread() is not threading.main_thread():
         sys.stdout.write(text)
         return
+    held = {signal.SIGINT, signal.SIGTERM}
     old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
-        try:
-            fd = sys.stdout.fileno()
-        except (AttributeError, OSError, ValueError):  # a stream in memory never blocks
-            sys.stdout.write(text)
-            sys.stdout.flush()
-            return
         sys.stdout.flush()
         _write_fd(fd, text.encode(sys.stdout.encoding, sys.stdout.errors or "strict"), held)
     finally:
