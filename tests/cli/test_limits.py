@@ -96,7 +96,7 @@ def test_plot_refuses_frames_beyond_the_memory_limit_with_the_estimate(
     argv = ["plot", FOUR_BAR, "--what", "angles", "-o", out, "--frames", "10000000"]
     status, stdout, err = _cli(argv, capsys)
     assert (status, stdout) == (2, "") and err.count("\n") == 1
-    assert "--frames: 10000000 frames need about 5.4e+09 bytes" in err
+    assert "--frames: 10000000 frames need about 4.5e+09 bytes" in err
     assert "--max-memory, or MJSTRUCT_MAX_MEMORY_BYTES" in err and "frames fit" in err
     fits = int(err.split("at most ")[1].split()[0])
     assert 10**6 < fits < 10**7 and list(tmp_path.iterdir()) == []

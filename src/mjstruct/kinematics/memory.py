@@ -14,8 +14,9 @@ were measured with ``tracemalloc`` (peak of the call, 1000 and 3000 frames, slop
 intercept) on the four-bar, class-IV, Zhivago examples and k four-bars sharing one
 crank (10 to 1000 links):
 
-* result, checks off: 40-51 bytes per item and frame (:data:`RESULT_BYTES` 60; the
-  tables are views of the evaluation's arrays, made when read);
+* result, checks off: 44-56 bytes per item and frame (:data:`RESULT_BYTES` 50; the
+  tables are views of the evaluation's arrays, made when read; the points of the
+  link the plan is solved in share its zero derivatives);
 * result with the default checks, read: 50-60 (:data:`CHECKS_BYTES` adds 10; the
   checks go row by row, only the closure's Jacobian over the frames grows with them);
 * JSON text (the result, its lists of floats and the text): 358-380
@@ -35,13 +36,13 @@ Examples
 >>> from mjstruct.kinematics.model import KinematicModel
 >>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
 >>> sweep_bytes(model, 1000, checks=False)
-540000
+450000
 >>> sweep_bytes(model, 10**9, output="csv") == sweep_bytes(model, 10**7, output="csv")
 True
 >>> check_sweep_memory(model, 10**9, limit=2**31)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-mjstruct.errors.MechanismError: frames: 1000000000 frames need about 6.3e+11 bytes, over ... fit
+mjstruct.errors.MechanismError: frames: 1000000000 frames need about 5.4e+11 bytes, over ... fit
 """
 
 from __future__ import annotations
@@ -57,8 +58,8 @@ from mjstruct.kinematics.model import KinematicModel
 DEFAULT_MAX_MEMORY = 2**31
 #: environment variable overriding :data:`DEFAULT_MAX_MEMORY`
 MEMORY_ENV = "MJSTRUCT_MAX_MEMORY_BYTES"
-#: bytes per table item and frame of the result without checks (measured 40-51)
-RESULT_BYTES = 60
+#: bytes per table item and frame of the result without checks (measured 44-56)
+RESULT_BYTES = 50
 #: bytes per table item and frame the checks add (measured 0-10)
 CHECKS_BYTES = 10
 #: bytes per table item and frame of the JSON path, result and checks included

@@ -53,6 +53,9 @@ class Pose:
     A: Jet
     r: Array
     w: Jet
+    #: the pose of the link the plan is solved in (r = 1, A and w zero): its points
+    #: stand still
+    fixed: bool = False
 
     def point(self, z: complex) -> Jet:
         """Jet of the link's point whose reference position is ``z``."""
@@ -75,6 +78,14 @@ class Pose:
         n = len(self.A)
         out = [] if lower is None else lower[:n]
         if len(out) == n:
+            return out
+        if self.fixed and _scalar(z):
+            # what the general formula gives here, without its arithmetic over the
+            # frames: z (a zero part +0, as 0 + 1·z makes it) and zero derivatives
+            shape = self.r.shape
+            if not out:
+                out.append(np.full(shape, complex(z.real + 0.0, z.imag + 0.0)))
+            out += self.A[len(out) : n]  # its zero arrays, shared
             return out
         rd = self.r * (z - self.zA)
         if not out:

@@ -33,7 +33,8 @@ from mjstruct.mechanism import Mechanism
 def _reference(s: Step, k: int, run: Run) -> None:
     zero_c = np.zeros(run.frames, complex)
     w: Jet = [np.zeros(run.frames)] * run.order
-    run.place(s.links[0], Pose(0j, [zero_c] * (run.order + 1), np.ones(run.frames, complex), w))
+    r = np.ones(run.frames, complex)
+    run.place(s.links[0], Pose(0j, [zero_c] * (run.order + 1), r, w, fixed=True))
 
 
 def _driver(s: Step, k: int, run: Run) -> None:
