@@ -188,20 +188,34 @@ def continue_stations(
             rmax = largest(R)
             finite = np.isfinite(rmax)
             e = rmax / scale
+            tried = win.evals > 0
             # a trial that does not assemble or more than doubles max |R| (outside the
             # tolerance: not its rounding) is halved back
-            bad = (~finite | ((rmax > 2.0 * win.rbase) & (e > tol))) & (win.evals > 0)
+            bad = (~finite | ((rmax > 2.0 * win.rbase) & (e > tol))) & tried
+            some_bad = np.count_nonzero(bad) > 0
             stalled = (e >= 0.5 * win.err) & (e <= STALL_ERROR * tol)
-            closed = ~bad & finite & ((e <= tol) | stalled)
+            # (a non-finite error is neither within the tolerance nor stalled, nor near)
+            closed = (e <= tol) | stalled
+            if some_bad:
+                closed &= ~bad
             D = -solve_stacked(J, Rd)
             newton = newton_step(J, R)
             with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-                near = ~bad & finite & (e <= NEAR) & (e <= 1e-2 * win.err)
+                near = (e <= NEAR) & (e <= 1e-2 * win.err)
                 near &= e * e * e <= PREDICTED * tol * win.err * win.err
-            at = np.where(near[:, None] & ~closed[:, None], win.t + newton, win.t)
+            if some_bad:
+                near &= ~bad
+            step_taken = near & ~closed
+            if np.count_nonzero(step_taken):
+                at = np.where(step_taken[:, None], win.t + newton, win.t)
+            else:
+                at = win.t.copy()  # (accepted rows must not share the window's trials)
             ready = closed | near
             # accept the closed stations at the front while each agrees with the last
-            c = win.size if ready.all() else int(ready.argmin())
+            # (argmin: the first not ready, or 0 when all are)
+            c = int(ready.argmin())
+            if ready[c]:
+                c = win.size
             taken = 0
             if c:
                 ds = win.s[:c] - np.concatenate(([s_last], win.s[: c - 1]))
@@ -212,17 +226,18 @@ def continue_stations(
                     D[:c],
                     ds,
                 )
-                taken = c if fits.all() else int(fits.argmin())
+                taken = int(fits.argmin())
+                if fits[taken]:
+                    taken = c
                 S.extend(win.s[:taken].tolist())
                 TT.extend(at[:taken])
                 DD.extend(finite_or_zero(D[:taken]))
                 s_last = S[-1]
             refused = taken < c
-            stuck = ~ready & (
-                (~finite & (win.evals == 0))
-                | (bad & (win.halved >= 8))
-                | (win.evals + 1 >= BLOCK_ROUNDS)
-            )
+            stuck = ~(finite | tried) | (win.evals >= BLOCK_ROUNDS - 1)
+            if some_bad:
+                stuck |= bad & (win.halved >= 8)
+            stuck &= ~ready
             live = ~stuck
             live[:taken] = False
             win.advance(newton, D, rmax, e, bad, ready, live)

@@ -88,21 +88,29 @@ class StationWindow:
         self, sv: FloatArray, qv: FloatArray, g: FloatArray, known: int
     ) -> dict[str, npt.NDArray[Any]]:
         n = sv.size
+        # np.zeros and np.empty + fill: np.full/ones/zeros_like cost several times more
+        # on these few stations
+        unknown = np.empty(n)
+        unknown.fill(np.inf)
+        count = np.empty(n, np.int64)
+        count.fill(known)
+        alpha = np.empty(n)
+        alpha.fill(1.0)
         return {
             "s": sv,
             "q": qv,
             "t": g,
             "base": g.copy(),
-            "step": np.zeros_like(g),
-            "d": np.zeros_like(g),
-            "alpha": np.ones(n),
+            "step": np.zeros(g.shape),
+            "d": np.zeros(g.shape),
+            "alpha": alpha,
             "halved": np.zeros(n, np.int64),
-            "rbase": np.full(n, np.inf),
-            "err": np.full(n, np.inf),
+            "rbase": unknown,
+            "err": unknown.copy(),
             "evals": np.zeros(n, np.int64),
             "closed": np.zeros(n, bool),
             "refused": np.zeros(n, bool),
-            "known": np.full(n, known),
+            "known": count,
             "renewals": np.zeros(n, np.int64),
         }
 
@@ -184,12 +192,12 @@ class StationWindow:
         ahead: bool = True,
     ) -> BoolArray:
         """Guess the ``mask`` stations again where more points are known; which were."""
-        if not mask.any():
+        if not np.count_nonzero(mask):
             return mask
-        known = len(S) + int(self.closed.sum())
+        known = len(S) + np.count_nonzero(self.closed)
         # at most RENEWALS times each: the count of closed stations can go up and down
         redo = mask & (self.known < known) & (self.renewals < RENEWALS)
-        if redo.any():
+        if np.count_nonzero(redo):
             self.renewals[redo] += 1
             for name, v in self._fresh(
                 self.s[redo], self.q[redo], self.guess(self.s[redo], S, TT, DD, ahead), known
@@ -200,18 +208,18 @@ class StationWindow:
 
     def split_disagreeing(self) -> None:
         """A station halfway between each closed neighbour pair that disagrees."""
-        settled = int(self.closed.sum())
+        settled = np.count_nonzero(self.closed)
         if settled == self.checked:  # no station settled since the last look
             return
         self.checked = settled
         ds = self.s[1:] - self.s[:-1]
         pair = self.closed[1:] & self.closed[:-1] & (ds > 1e-4)
-        if not pair.any():
+        if not np.count_nonzero(pair):
             return
         # every neighbour pair at once (slices: cheaper than gathering the closed ones)
         far = pair & ~agreement(self.base[:-1], self.d[:-1], self.base[1:], self.d[1:], ds)
-        if far.any():
-            i = np.flatnonzero(far)
+        if np.count_nonzero(far):
+            i = far.nonzero()[0]
             mid = 0.5 * (self.s[i] + self.s[i + 1])
             # within a run the path is straight in q: the midpoint in arc is in q too
             qmid = 0.5 * (self.q[i] + self.q[i + 1])
@@ -238,18 +246,20 @@ class StationWindow:
     ) -> None:
         """One round for the ``live`` stations: ``bad`` trials halved, the rest take
         their Newton step (``newton``, the step from each station's trial point)."""
-        first = int(live.argmax()) if live.any() else live.size
+        # (np.count_nonzero: a fraction of the cost of any/all on these few stations)
+        alive = np.count_nonzero(live)
+        first = int(live.argmax()) if alive else live.size
         g: slice | BoolArray
-        if live[first:].all() and not bad[first:].any():
+        if alive == live.size - first and not np.count_nonzero(bad[first:]):
             g = slice(first, None)  # the usual round: every station from the first steps
         else:
             b = bad & live
-            if b.any():
+            if np.count_nonzero(b):
                 self.alpha[b] *= 0.5
                 self.halved[b] += 1
                 self.t[b] = self.base[b] + self.alpha[b, None] * self.step[b]
             g = ~bad & live
-            if not g.any():
+            if not np.count_nonzero(g):
                 return
         self.err[g] = e[g]
         self.base[g] = self.t[g]
@@ -259,4 +269,4 @@ class StationWindow:
         self.evals[g] += 1
         self.step[g] = newton[g]
         self.alpha[g], self.halved[g] = 1.0, 0
-        self.t[g] = self.base[g] + self.step[g]
+        self.t[g] += newton[g]  # base + step
