@@ -119,7 +119,6 @@ def continue_stations(
     direction (kept on the model, like its plan) and read by later calls.
     """
     k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
-    inner = () if flips is None else inner_mode_steps(model, only)
 
     def modes(sv: FloatArray) -> Modes | None:
         if K is None and not flips:  # no base modes, no flip met: the reference's
@@ -145,7 +144,7 @@ def continue_stations(
     if K is None and (flips is None or not flips):
         # the reference's tangent is the model's (at the reference's modes): found once
         memo = model.__dict__.setdefault("_reference_tangent", {})
-        key = (tol, maxiter, only, path.directions(np.zeros(1))[0].tobytes())
+        key = (tol, maxiter, only, path.direction_after(0.0).tobytes())
         if key not in memo:
             memo[key] = station(0.0, np.zeros(k))[1]
         D0 = None if memo[key] is None else memo[key].copy()
@@ -286,6 +285,8 @@ def continue_stations(
             # is not on the branch followed (across a fold, where the two meet); or an
             # inner dyad at its own dead point, whose mode flips there
             got = None
+            # (the inner dyads only here: the rest of the continuation does not read them)
+            inner = () if flips is None else inner_mode_steps(model, only)
             if flips is not None and inner:
                 got = try_flip(
                     model,

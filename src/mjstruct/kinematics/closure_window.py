@@ -194,7 +194,7 @@ class StationWindow:
         """Guess the ``mask`` stations again where more points are known; which were."""
         if not np.count_nonzero(mask):
             return mask
-        known = len(S) + np.count_nonzero(self.closed)
+        known = len(S) + int(np.count_nonzero(self.closed))
         # at most RENEWALS times each: the count of closed stations can go up and down
         redo = mask & (self.known < known) & (self.renewals < RENEWALS)
         if np.count_nonzero(redo):
@@ -208,7 +208,7 @@ class StationWindow:
 
     def split_disagreeing(self) -> None:
         """A station halfway between each closed neighbour pair that disagrees."""
-        settled = np.count_nonzero(self.closed)
+        settled = int(np.count_nonzero(self.closed))
         if settled == self.checked:  # no station settled since the last look
             return
         self.checked = settled
