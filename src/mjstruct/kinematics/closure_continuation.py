@@ -198,6 +198,7 @@ def continue_stations(
             if some_bad:
                 closed &= ~bad
             D = -solve_stacked(J, Rd)
+            dz = finite_or_zero(D)
             newton = newton_step(J, R)
             with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
                 near = (e <= NEAR) & (e <= 1e-2 * win.err)
@@ -220,7 +221,7 @@ def continue_stations(
                 ds = win.s[:c] - np.concatenate(([s_last], win.s[: c - 1]))
                 fits = agreement(
                     np.concatenate([TT[-1][None], at[: c - 1]]),
-                    np.concatenate([DD[-1][None], finite_or_zero(D[: c - 1])]),
+                    np.concatenate([DD[-1][None], dz[: c - 1]]),
                     at[:c],
                     D[:c],
                     ds,
@@ -230,7 +231,7 @@ def continue_stations(
                     taken = c
                 S.extend(win.s[:taken].tolist())
                 TT.extend(at[:taken])
-                DD.extend(finite_or_zero(D[:taken]))
+                DD.extend(dz[:taken])
                 s_last = S[-1]
             refused = taken < c
             stuck = ~(finite | tried) | (win.evals >= BLOCK_ROUNDS - 1)
@@ -239,8 +240,7 @@ def continue_stations(
             stuck &= ~ready
             live = ~stuck
             live[:taken] = False
-            win.advance(newton, D, rmax, e, bad, ready, live)
-            win.drop_front(taken)
+            win.advance(newton, dz, rmax, e, bad, ready, live, taken)
             if refused and float(win.s[0]) - s_last > 1e-4:
                 # closed, but too far along a curved path (or on another branch): a
                 # station halfway first; a second refusal guesses it again

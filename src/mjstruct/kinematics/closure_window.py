@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mjstruct.kinematics.closure_path import agreement, cubic, finite_or_zero, last_two
+from mjstruct.kinematics.closure_path import agreement, cubic, last_two
 from mjstruct.typing import BoolArray, FloatArray
 
 #: a guess extrapolated from the last known stations is held beyond this arc from them
@@ -237,21 +237,41 @@ class StationWindow:
     def advance(
         self,
         newton: FloatArray,
-        D: FloatArray,
+        d: FloatArray,
         rmax: FloatArray,
         e: FloatArray,
         bad: BoolArray,
         closed: BoolArray,
         live: BoolArray,
+        accepted: int = 0,
     ) -> None:
         """One round for the ``live`` stations: ``bad`` trials halved, the rest take
-        their Newton step (``newton``, the step from each station's trial point)."""
+        their Newton step (``newton``, the step from each station's trial point; ``d``
+        the finite tangents there); then the first ``accepted`` stations (not live) are
+        forgotten."""
         # (np.count_nonzero: a fraction of the cost of any/all on these few stations)
         alive = np.count_nonzero(live)
+        n = accepted
+        if alive == live.size - n and not np.count_nonzero(bad[n:]):
+            # the usual round: every station after the accepted ones steps; the round's
+            # arrays become the window's (no copies into the old ones)
+            self.s, self.q = self.s[n:], self.q[n:]
+            self.err, self.rbase, self.step, self.d = e[n:], rmax[n:], newton[n:], d[n:]
+            self.base = self.t[n:]
+            self.t = self.base + self.step
+            self.closed = closed[n:] | (self.err <= SETTLED)
+            self.evals = self.evals[n:] + 1
+            m = self.s.size
+            self.alpha = np.empty(m)
+            self.alpha.fill(1.0)
+            self.halved = np.zeros(m, np.int64)
+            self.refused, self.known = self.refused[n:], self.known[n:]
+            self.renewals = self.renewals[n:]
+            return
         first = int(live.argmax()) if alive else live.size
         g: slice | BoolArray
         if alive == live.size - first and not np.count_nonzero(bad[first:]):
-            g = slice(first, None)  # the usual round: every station from the first steps
+            g = slice(first, None)  # every station from the first live one steps
         else:
             b = bad & live
             if np.count_nonzero(b):
@@ -260,13 +280,15 @@ class StationWindow:
                 self.t[b] = self.base[b] + self.alpha[b, None] * self.step[b]
             g = ~bad & live
             if not np.count_nonzero(g):
+                self.drop_front(n)
                 return
         self.err[g] = e[g]
         self.base[g] = self.t[g]
         self.rbase[g] = rmax[g]
-        self.d[g] = finite_or_zero(D[g])
+        self.d[g] = d[g]
         self.closed[g] = closed[g] | (e[g] <= SETTLED)
         self.evals[g] += 1
         self.step[g] = newton[g]
         self.alpha[g], self.halved[g] = 1.0, 0
         self.t[g] += newton[g]  # base + step
+        self.drop_front(n)
