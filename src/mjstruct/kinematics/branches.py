@@ -382,6 +382,9 @@ def _closure_limits(
     link coordinates) gives its smallest singular value: a dead point (input limit of
     the group) where it vanishes, else the closure's stop is named as such.
     """
+    edges = np.flatnonzero(closed[:-1] != closed[1:])
+    if edges.size == 0:  # closed on every frame, or on none (the usual sweeps)
+        return []
     from mjstruct.kinematics.closure import newton
     from mjstruct.kinematics.jacobian import constraint_jacobian, one_blas_thread
 
@@ -391,7 +394,7 @@ def _closure_limits(
     }
     group = tuple(j.id for j in m.joints if any(x in links for x in j.links))
     out = []
-    for edge in np.flatnonzero(closed[:-1] != closed[1:]):
+    for edge in edges:
         e = int(edge)
         a, b = (e, e + 1) if closed[e] else (e + 1, e)
         Ka: Modes = _modes_at(K, a)

@@ -25,6 +25,7 @@ True
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from contextlib import nullcontext
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -249,8 +250,11 @@ class KinematicModel:
         kept: list[tuple[Evaluation, Modes | None]] = []
         if plan.unknowns:
             # trouble is reported per frame below; one BLAS thread for the batched
-            # small solves of Newton (threads only add wake-up cost there)
-            with np.errstate(all="ignore"), one_blas_thread():
+            # small solves of Newton (threads only add wake-up cost there).  With one
+            # closure equation every solve is a division (no BLAS): setting the
+            # limit would cost more than the solves (tens of microseconds)
+            blas = one_blas_thread() if plan.equations > 1 else nullcontext()
+            with np.errstate(all="ignore"), blas:
                 sol = close(self, qa, rate, tol=tol, order=order, keep=kept)
             # frames that did not close carry no configuration (null, reported)
             t = np.where(sol.converged[:, None], sol.t, np.nan)
