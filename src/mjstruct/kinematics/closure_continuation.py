@@ -200,9 +200,10 @@ def continue_stations(
             D = -solve_stacked(J, Rd)
             dz = finite_or_zero(D)
             newton = newton_step(J, R)
-            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-                near = (e <= NEAR) & (e <= 1e-2 * win.err)
-                near &= e * e * e <= PREDICTED * tol * win.err * win.err
+            near = (e <= NEAR) & (e <= 1e-2 * win.err)
+            if np.count_nonzero(near):  # (none in a window's first rounds)
+                with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                    near &= e * e * e <= PREDICTED * tol * win.err * win.err
             if some_bad:
                 near &= ~bad
             step_taken = near & ~closed

@@ -32,18 +32,29 @@ class ClosurePath:
     """
 
     def __init__(self, q_ref: FloatArray, q: FloatArray) -> None:
+        n = q.shape[0]
         self.points = np.concatenate([q_ref[None, :], q])
-        seg = np.abs(self.points[1:] - self.points[:-1]).max(axis=1)
-        self.arc = np.concatenate([[0.0], np.cumsum(seg)])
+        # (row_max, cumsum into the array, concatenate instead of np.r_: the same
+        # numbers with fewer passes over the frames)
+        step = self.points[1:] - self.points[:-1]
+        seg = row_max(np.abs(step))
+        self.arc = np.empty(n + 1)
+        self.arc[0] = 0.0
+        np.cumsum(seg, out=self.arc[1:])
         self.total = float(self.arc[-1])
         self.moving = np.flatnonzero(seg > 0)
-        self.ends = self.arc[self.moving + 1]
-        self.frames = int(q.shape[0])
-        d = self.points[self.moving + 1] - self.points[self.moving]
-        self.dirs: FloatArray = d / np.abs(d).max(axis=1, keepdims=True)
+        self.frames = int(n)
+        if self.moving.size == n:  # every segment moves (a sweep): no gathers
+            self.ends, d = self.arc[1:], step
+        else:
+            after = self.moving + 1
+            self.ends, d = self.arc[after], self.points[after] - self.points[self.moving]
+        self.dirs: FloatArray = d / (np.abs(d) if d.shape[1] == 1 else row_max(np.abs(d))[:, None])
         # where each moving segment's run of one direction ends (none: a path at rest)
-        change = (self.dirs[1:] != self.dirs[:-1]).any(axis=1)
-        starts = np.flatnonzero(np.r_[True, change]) if self.moving.size else self.moving
+        change = row_max(self.dirs[1:] != self.dirs[:-1])
+        starts = (
+            np.concatenate(([0], np.flatnonzero(change) + 1)) if self.moving.size else self.moving
+        )
         stops = np.append(starts[1:], self.moving.size)[: starts.size]
         self.run_ends: FloatArray = np.repeat(self.ends[stops - 1], stops - starts)
         #: arc positions where the direction changes (a rocking input reverses there)
@@ -167,29 +178,47 @@ def hermite(
         line: FloatArray = np.repeat(y, xi.size, axis=0) + (xi - x[0])[:, None] * dy
         return line
     i = np.minimum(np.maximum(x.searchsorted(xi, side="right") - 1, 0), x.size - 2)
-    h = (x[i + 1] - x[i])[:, None]
-    s = ((xi - x[i])[:, None]) / h
+    # each point's interval ends gathered once (take: numpy's fast gather along an axis)
+    j = i + 1
+    x0 = x.take(i)
+    h = (x.take(j) - x0)[:, None]
+    s = ((xi - x0)[:, None]) / h
     # the basis by products (numpy's power takes a slow general path for the cube)
     s2 = s * s
     s3 = s2 * s
     if d2y is not None:
         s4 = s3 * s
         s5 = s4 * s
-        g0 = 10 * s3 - 15 * s4 + 6 * s5
-        quintic: FloatArray = (
-            (1 - g0) * y[i]
-            + g0 * y[i + 1]
-            + h
-            * ((s - 6 * s3 + 8 * s4 - 3 * s5) * dy[i] + (-4 * s3 + 7 * s4 - 3 * s5) * dy[i + 1])
-            + 0.5
-            * h
-            * h
-            * ((s2 - 3 * s3 + 3 * s4 - s5) * d2y[i] + (s3 - 2 * s4 + s5) * d2y[i + 1])
-        )
+        s5x3 = 3 * s5
+        # every term as before, element by element (in place: fewer temporaries)
+        g0 = 10 * s3
+        g0 -= 15 * s4
+        g0 += 6 * s5
+        a = s - 6 * s3
+        a += 8 * s4
+        a -= s5x3
+        b = -4 * s3
+        b += 7 * s4
+        b -= s5x3
+        c = s2 - 3 * s3
+        c += 3 * s4
+        c -= s5
+        e = s3 - 2 * s4
+        e += s5
+        quintic: FloatArray = (1 - g0) * y.take(i, axis=0)
+        quintic += g0 * y.take(j, axis=0)
+        first = a * dy.take(i, axis=0)  # (frames × unknowns from here)
+        first += b * dy.take(j, axis=0)
+        first *= h
+        quintic += first
+        second = c * d2y.take(i, axis=0)
+        second += e * d2y.take(j, axis=0)
+        second *= 0.5 * h * h
+        quintic += second
         return quintic
     h01 = 3 * s2 - 2 * s3
     h00 = 1 - h01
     h10 = s3 - 2 * s2 + s
     h11 = s3 - s2
-    cubic_: FloatArray = h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
+    cubic_: FloatArray = h00 * y[i] + h10 * h * dy[i] + h01 * y[j] + h11 * h * dy[j]
     return cubic_
