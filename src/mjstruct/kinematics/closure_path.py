@@ -189,32 +189,24 @@ def hermite(
     if d2y is not None:
         s4 = s3 * s
         s5 = s4 * s
+        g0 = 10 * s3 - 15 * s4 + 6 * s5
         s5x3 = 3 * s5
-        # every term as before, element by element (in place: fewer temporaries)
-        g0 = 10 * s3
-        g0 -= 15 * s4
-        g0 += 6 * s5
-        a = s - 6 * s3
-        a += 8 * s4
-        a -= s5x3
-        b = -4 * s3
-        b += 7 * s4
-        b -= s5x3
-        c = s2 - 3 * s3
-        c += 3 * s4
-        c -= s5
-        e = s3 - 2 * s4
-        e += s5
-        quintic: FloatArray = (1 - g0) * y.take(i, axis=0)
-        quintic += g0 * y.take(j, axis=0)
-        first = a * dy.take(i, axis=0)  # (frames × unknowns from here)
-        first += b * dy.take(j, axis=0)
-        first *= h
-        quintic += first
-        second = c * d2y.take(i, axis=0)
-        second += e * d2y.take(j, axis=0)
-        second *= 0.5 * h * h
-        quintic += second
+        quintic: FloatArray = (
+            (1 - g0) * y.take(i, axis=0)
+            + g0 * y.take(j, axis=0)
+            + h
+            * (
+                (s - 6 * s3 + 8 * s4 - s5x3) * dy.take(i, axis=0)
+                + (-4 * s3 + 7 * s4 - s5x3) * dy.take(j, axis=0)
+            )
+            + 0.5
+            * h
+            * h
+            * (
+                (s2 - 3 * s3 + 3 * s4 - s5) * d2y.take(i, axis=0)
+                + (s3 - 2 * s4 + s5) * d2y.take(j, axis=0)
+            )
+        )
         return quintic
     h01 = 3 * s2 - 2 * s3
     h00 = 1 - h01
