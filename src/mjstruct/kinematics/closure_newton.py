@@ -240,10 +240,12 @@ def newton_with_tangent(
             held = None
             R, J, Rd = closure_jets(model, q[idx], t[idx], subset_modes(K, idx), seed, only)
         rmax = largest(R)
-        bad = ~np.isfinite(rmax) | ((rmax > 2.0 * rbase[sel]) & (rmax > tol * scale))
-        bad &= (halved[sel] < 8) & (evals[sel] > 0)
         g: slice | npt.NDArray[np.intp] = sel
-        if bad.any():
+        # no step to halve before a frame's first evaluation
+        if rounds > 1:
+            bad = ~np.isfinite(rmax) | ((rmax > 2.0 * rbase[sel]) & (rmax > tol * scale))
+            bad &= (halved[sel] < 8) & (evals[sel] > 0)
+        if rounds > 1 and bad.any():
             b = idx[bad]
             alpha[b] *= 0.5
             halved[b] += 1
@@ -252,7 +254,9 @@ def newton_with_tangent(
             g, idx, R, J, rmax = idx[good], idx[good], R[good], J[good], rmax[good]
             Rd = None if Rd is None else Rd[good]
         e = rmax / scale
-        stalled = e >= 0.5 * err[g]
+        # with rates no frame stops at the first round (below): no test then
+        first = rates is not None and rounds == 1
+        stalled = None if first else e >= 0.5 * err[g]
         err[g] = e
         base[g] = t[g]
         rbase[g] = rmax
@@ -262,9 +266,10 @@ def newton_with_tangent(
         last[g] = J
         if tangent is not None and Rd is not None:
             tangent[g] = -solve_stacked(J, Rd)
-        done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
-        if rates is not None and rounds == 1:
-            done[:] = False
+        if stalled is None:
+            done = np.zeros(e.shape, bool)
+        else:
+            done = (e <= tol) | (stalled & (e <= STALL_ERROR * tol))
         spent = ~done & ((evals[g] >= maxiter) | (tries[g] >= 2 * maxiter) | ~np.isfinite(e))
         stop = done | spent
         if stop.any():
