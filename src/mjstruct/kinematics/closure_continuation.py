@@ -49,6 +49,7 @@ from mjstruct.kinematics.closure_path import (
     last_two,
 )
 from mjstruct.kinematics.closure_window import StationWindow
+from mjstruct.kinematics.evaluate import evaluate
 from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import STALL_ERROR, STATION_STEP
 from mjstruct.typing import FloatArray
@@ -81,6 +82,90 @@ FIRST_STEP = 1e-12
 #: converges in a few, and one that does not is tried again from half the step (near
 #: the edge of the feasible range a full maxiter per try made a sweep take seconds)
 STATION_ITERATIONS = 12
+
+
+#: a window reaching further than this beyond the last accepted station (arc, radians
+#: of the driver) first guesses its stations from a scan of the residual: its held
+#: guesses far from anything known cost rounds that make no progress, and on a sweep
+#: some do not assemble at all.  Shorter windows (a rocking input's runs) converge
+#: from their guesses in about the rounds the scan would cost
+SCAN_AHEAD = 2.0
+#: points of the scan over one turn of a single unknown (radians): fine enough to
+#: bracket the roots of a stretch near a fold, where the range that assembles narrows
+SCAN_POINTS = 48
+
+
+def scanned_roots(
+    model: KinematicModel,
+    qv: FloatArray,
+    K: Modes | None,
+    only: tuple[int, ...] | None,
+    start: float,
+) -> FloatArray | None:
+    """First guesses of a single unknown at stations ``qv`` from one scan of the residual.
+
+    One evaluation of order 0 on :data:`SCAN_POINTS` values over one turn about
+    ``start`` at every other station (and the last); the roots are bracketed by sign
+    changes, placed by the quadratic through the bracket and its neighbours, and
+    followed from ``start`` station by station by the one nearest the last (a coarse
+    continuation).  A scanned station with no sign change (its range that assembles
+    narrower than the scan's step) is guessed between its neighbours' roots; the
+    stations between, by the cubic through the four scanned around them.  None: no
+    root anywhere.  Only guesses: each station is still accepted by Newton and
+    :func:`agreement`.
+    """
+    n_all = qv.shape[0]
+    idx = np.arange(0, n_all + 1, 2)
+    idx[-1] = min(int(idx[-1]), n_all - 1)
+    idx = idx[: int(np.searchsorted(idx, n_all - 1)) + 1]
+    n, G = idx.size, SCAN_POINTS
+    grid = start + np.linspace(-np.pi, np.pi, G, endpoint=False)
+    h = float(grid[1] - grid[0])
+    Ks = None
+    if K is not None:  # each scanned station's modes at its points of the scan
+        Ks = {c: np.repeat(v[idx], G) if isinstance(v, np.ndarray) else v for c, v in K.items()}
+    tg = np.tile(grid, n)[:, None]
+    ev = evaluate(model, np.repeat(qv[idx], G, axis=0), order=0, t=tg, K=Ks, only=only)
+    r = ev.residual_matrix(0)[:, 0].reshape(n, G)
+    r0, r1 = r[:, :-1], r[:, 1:]
+    # second differences at each grid value (NaN at the ends: none)
+    d2 = np.empty((n, G + 1))
+    d2.fill(np.nan)
+    d2[:, 1 : G - 1] = r[:, :-2] - 2.0 * r[:, 1:-1] + r[:, 2:]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        i, j = (r0 * r1 <= 0.0).nonzero()  # (NaN: the scan's point does not assemble)
+        a, b = r0[i, j], r1[i, j]
+        u = a / (a - b)  # the secant's root, a fraction of the bracket
+        dl, dr = d2[i, j], d2[i, j + 1]
+        okl, okr = dl == dl, dr == dr
+        c2 = np.where(okl & okr, 0.5 * (dl + dr), np.where(okl, dl, np.where(okr, dr, 0.0)))
+        # the quadratic a + (b - a) u + c2 u (u - 1) / 2: one Newton step from u
+        u -= 0.5 * c2 * u * (u - 1.0) / ((b - a) + 0.5 * c2 * (2.0 * u - 1.0))
+        root = grid[j] + h * u
+    rows, roots = i.tolist(), root.tolist()
+    last, m = start, 0
+    at: list[int] = []
+    val: list[float] = []
+    for st in range(n):  # (rows are in order)
+        best = None
+        while m < len(rows) and rows[m] == st:
+            x = roots[m]
+            if x == x and (best is None or abs(x - last) < abs(best - last)):
+                best = x
+            m += 1
+        if best is not None:
+            at.append(st)
+            val.append(best)
+            last = best
+    if not at:
+        return None
+    y = np.interp(np.arange(n), at, val)
+    out: FloatArray = np.interp(np.arange(n_all), idx, y)[:, None]
+    if n >= 4:  # a station between two scanned 2 apart: the cubic through four
+        inner = idx[2:-1] - idx[1:-2] == 2
+        mid = (9.0 * (y[1:-2] + y[2:-1]) - y[:-3] - y[3:]) / 16.0
+        out[idx[1:-2][inner] + 1, 0] = mid[inner]
+    return out
 
 
 def continue_stations(
@@ -180,8 +265,13 @@ def continue_stations(
             if room > 0 and tail < wend:
                 sv = np.minimum(tail + WINDOW_STEP * np.arange(1, room + 1), wend)
                 sv = sv[: int(np.searchsorted(sv, wend)) + 1]
-                g = win.guess(sv, S, TT, DD)
-                win.insert(np.full(sv.size, win.size), sv, path.at(sv), g)
+                qv = path.at(sv)
+                g = None
+                if k == 1 and win.size == 0 and float(sv[-1]) - s_last > SCAN_AHEAD:
+                    g = scanned_roots(model, qv, modes(sv), only, float(TT[-1][0]))
+                if g is None:
+                    g = win.guess(sv, S, TT, DD)
+                win.insert(np.full(sv.size, win.size), sv, qv, g)
             R, J, Rd = closure_jets(model, win.q, win.t, modes(win.s), wdir, only)
             assert Rd is not None
             rmax = largest(R)
