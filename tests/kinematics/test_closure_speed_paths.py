@@ -8,12 +8,15 @@ and polynomials the Hermite interpolation must reproduce.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics import closure, closure_continuation, closure_newton, closure_path
+from mjstruct.kinematics.closure_modes import reference_modes
 from mjstruct.kinematics.model import KinematicModel
 
 
@@ -21,16 +24,51 @@ def _model(name: str) -> KinematicModel:
     return KinematicModel.build(read_mechanism(example_path(name)))
 
 
-def test_class_iv_closes_in_few_evaluations_and_two_rounds(closure_evaluations: list[int]):
+def test_class_iv_closes_in_few_evaluations_and_two_rounds(
+    closure_evaluations: list[int], monkeypatch: pytest.MonkeyPatch
+) -> None:
     model = _model("class-iv-seed003")
     calls = closure_evaluations
+    scans = [0]
+    real_scan = closure_continuation.evaluate
+
+    def scan(*args: Any, **kwargs: Any) -> Any:
+        scans[0] += 1
+        return real_scan(*args, **kwargs)
+
+    monkeypatch.setattr(closure_continuation, "evaluate", scan)
     sol = closure.close(model, model.sweep(3600))
     assert sol.converged.all() and sol.error.max() <= closure.NEWTON_TOL
     assert sol.jumps == () and sol.reseeded == ()
-    # the whole turn in one window (a few rounds), one evaluation for the stations'
-    # t'', two Newton rounds on the frames and two for t' and t''
-    assert calls[0] <= 20, calls[0]
+    # the whole turn in one window: one scan for its first guesses and a few rounds
+    # (4; 8 from held guesses), one evaluation for the stations' t'', two Newton
+    # rounds on the frames and one for t''
+    assert scans[0] == 1
+    assert calls[0] + scans[0] <= 11, (calls[0], scans[0])
     assert sol.iterations == 2
+
+
+def test_scanned_roots_guess_the_class_iv_turn_near_its_roots() -> None:
+    model = _model("class-iv-seed003")
+    only = closure_newton.closing_steps(model)
+    path = closure_path.ClosurePath(model.q_ref, model.sweep(3600))
+    qv = path.at(np.arange(1, 51) * closure_continuation.WINDOW_STEP)
+    g = closure_continuation.scanned_roots(model, qv, None, only, 0.0)
+    assert g is not None
+    # the roots by Newton on each station from the reference's continuation
+    err = np.abs(g - closure.close(model, qv).t)[:, 0]
+    # (a held guess is 0.1-0.5 off on the second half of the turn, and does not
+    # assemble at s = 4.6-5.1)
+    assert err.max() <= 1e-2 and np.median(err) <= 1e-3, (err.max(), np.median(err))
+    # the dyad's modes, per station or one for all, give the same scan as the
+    # reference's (its modes along this turn)
+    (dyad,) = [k for k, s in enumerate(model.plan.steps) if s.kind == "RRR"]
+    mode = reference_modes(model, (dyad,))[dyad]
+    for K in ({dyad: mode}, {dyad: np.full(qv.shape[0], mode)}):
+        assert np.array_equal(closure_continuation.scanned_roots(model, qv, K, only, 0.0), g)
+    # the other mode: another curve of roots, or none (then no guesses)
+    other = closure_continuation.scanned_roots(model, qv, {dyad: -mode}, only, 0.0)
+    assert other is None or np.abs(other - g).max() > 1e-2
 
 
 def test_window_agrees_with_fine_steps_on_the_class_iv_example(

@@ -125,7 +125,8 @@ def scanned_roots(
     if K is not None:  # each scanned station's modes at its points of the scan
         Ks = {c: np.repeat(v[idx], G) if isinstance(v, np.ndarray) else v for c, v in K.items()}
     tg = np.tile(grid, n)[:, None]
-    ev = evaluate(model, np.repeat(qv[idx], G, axis=0), order=0, t=tg, K=Ks, only=only)
+    qs = np.repeat(qv[idx], G, axis=0)
+    ev = evaluate(model, qs, order=0, t=tg, K=Ks, only=only)
     r = ev.residual_matrix(0)[:, 0].reshape(n, G)
     r0, r1 = r[:, :-1], r[:, 1:]
     # second differences at each grid value (NaN at the ends: none)
