@@ -3,7 +3,8 @@
 Owns :func:`continue_stations`: stations not tied to the frames, from the reference (where
 every unknown is 0) along the path, a window of up to :data:`MAX_BLOCK` of them solved
 together by the vectorised Newton (:class:`~mjstruct.kinematics.closure_window.StationWindow`:
-stations far ahead start from rough guesses and close while the ones before them are
+stations far ahead start from rough guesses (on a long run of a single unknown, the
+roots of one coarse scan: :func:`scanned_roots`) and close while the ones before them are
 accepted, in order, each checked against the tangent from the last), or one at a time
 with the step halving near the edge of the feasible range, where the continuation
 stops; and the stations' t'' from one more evaluation (:func:`station_curvature`), for
@@ -113,6 +114,18 @@ def scanned_roots(
     stations between, by the cubic through the four scanned around them.  None: no
     root anywhere.  Only guesses: each station is still accepted by Newton and
     :func:`agreement`.
+
+    Examples
+    --------
+    >>> from mjstruct.io import read_mechanism
+    >>> from mjstruct.catalog_files import example_path
+    >>> from mjstruct.kinematics.model import KinematicModel
+    >>> model = KinematicModel.build(read_mechanism(example_path("class-iv-seed003")))
+    >>> qv = model.q_ref[None, :] + 0.125 * np.arange(1, 9)[:, None]  # stations
+    >>> g = scanned_roots(model, qv, None, None, 0.0)
+    >>> from mjstruct.kinematics.closure import close
+    >>> bool(np.abs(g - close(model, qv).t).max() < 1e-2)  # near the roots
+    True
     """
     n_all = qv.shape[0]
     idx = np.arange(0, n_all + 1, 2)
@@ -191,7 +204,9 @@ def continue_stations(
     to :data:`MAX_BLOCK` stations :data:`WINDOW_STEP` apart along a run of the path are
     solved together (:class:`StationWindow`), one evaluation per round, each from a
     guess by the cubic through the nearest stations known on either side (held beyond
-    :data:`~mjstruct.kinematics.closure_window.REACH` when there is none ahead); a
+    :data:`~mjstruct.kinematics.closure_window.REACH` when there is none ahead; for a
+    single unknown, a new window reaching beyond :data:`SCAN_AHEAD` is guessed from
+    one scan of the residual, :func:`scanned_roots`); a
     closed pair that disagrees gets a station halfway, at once.  A station at the front
     that is refused gets one halfway before it (a second refusal guesses it again); one
     that is stuck (it does not assemble, cannot be halved or is still open after
