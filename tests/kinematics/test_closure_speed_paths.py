@@ -71,6 +71,23 @@ def test_scanned_roots_guess_the_class_iv_turn_near_its_roots() -> None:
     assert other is None or np.abs(other - g).max() > 1e-2
 
 
+def test_a_slide_unknown_takes_no_scan_of_one_turn(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the scan covers one turn of an angle: a closure whose unknown is a slide (a
+    # random dyad pair closed along a guide, driven by a full turn) keeps the guesses
+    # of the nearest stations, and closes as before
+    from mjstruct.testing import random_geometry, random_mechanism
+
+    model = KinematicModel.build(random_geometry(random_mechanism(1, seed=219), 219))
+    assert [s.kind for s in model.plan.steps if s.kind.startswith("assume")] == ["assume-slide"]
+
+    def refuse(*args: Any, **kwargs: Any) -> Any:
+        raise AssertionError("scanned a slide over one turn")
+
+    monkeypatch.setattr(closure_continuation, "scanned_roots", refuse)
+    sol = closure.close(model, model.sweep(720))
+    assert sol.converged.any()
+
+
 def test_window_agrees_with_fine_steps_on_the_class_iv_example(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

@@ -3,9 +3,9 @@
 Owns :func:`continue_stations`: stations not tied to the frames, from the reference (where
 every unknown is 0) along the path, a window of up to :data:`MAX_BLOCK` of them solved
 together by the vectorised Newton (:class:`~mjstruct.kinematics.closure_window.StationWindow`:
-stations far ahead start from rough guesses (on a long run of a single unknown, the
-roots of one coarse scan: :func:`scanned_roots`) and close while the ones before them are
-accepted, in order, each checked against the tangent from the last), or one at a time
+stations far ahead start from rough guesses (on a long run of a single unknown angle,
+the roots of one coarse scan: :func:`scanned_roots`) and close while the ones before
+them are accepted, in order, each checked against the tangent from the last), or one at a time
 with the step halving near the edge of the feasible range, where the continuation
 stops; and the stations' t'' from one more evaluation (:func:`station_curvature`), for
 the quintic Hermite guess on the frames.  The number of evaluations depends on the
@@ -103,7 +103,7 @@ def scanned_roots(
     only: tuple[int, ...] | None,
     start: float,
 ) -> FloatArray | None:
-    """First guesses of a single unknown at stations ``qv`` from one scan of the residual.
+    """First guesses of a single unknown angle at stations ``qv`` from one scan of the residual.
 
     One evaluation of order 0 on :data:`SCAN_POINTS` values over one turn about
     ``start`` at every other station (and the last); the roots are bracketed by sign
@@ -205,7 +205,7 @@ def continue_stations(
     solved together (:class:`StationWindow`), one evaluation per round, each from a
     guess by the cubic through the nearest stations known on either side (held beyond
     :data:`~mjstruct.kinematics.closure_window.REACH` when there is none ahead; for a
-    single unknown, a new window reaching beyond :data:`SCAN_AHEAD` is guessed from
+    single unknown angle, a new window reaching beyond :data:`SCAN_AHEAD` is guessed from
     one scan of the residual, :func:`scanned_roots`); a
     closed pair that disagrees gets a station halfway, at once.  A station at the front
     that is refused gets one halfway before it (a second refusal guesses it again); one
@@ -220,6 +220,8 @@ def continue_stations(
     direction (kept on the model, like its plan) and read by later calls.
     """
     k, scale, total = model.plan.unknowns, model.geometry.scale, path.total
+    # the scan covers one turn: for a single unknown that is an angle (not a slide)
+    angle = k == 1 and any(s.kind == "assume" for s in model.plan.steps)
 
     def modes(sv: FloatArray) -> Modes | None:
         if K is None and not flips:  # no base modes, no flip met: the reference's
@@ -283,7 +285,7 @@ def continue_stations(
                 sv = sv[: int(np.searchsorted(sv, wend)) + 1]
                 qv = path.at(sv)
                 g = None
-                if k == 1 and win.size == 0 and float(sv[-1]) - s_last > SCAN_AHEAD:
+                if angle and win.size == 0 and float(sv[-1]) - s_last > SCAN_AHEAD:
                     g = scanned_roots(model, qv, modes(sv), only, float(TT[-1][0]))
                 if g is None:
                     g = win.guess(sv, S, TT, DD)
