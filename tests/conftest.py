@@ -1,4 +1,4 @@
-"""Shared fixtures: paths of shipped examples, a count of the closure's evaluations."""
+"""Shared fixtures: paths of shipped examples, counts of the closure's evaluations."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from mjstruct.kinematics import closure_newton
+from mjstruct.kinematics import closure_continuation, closure_newton
 from project_paths import EXAMPLES
 
 
@@ -16,18 +16,33 @@ def examples() -> Path:
     return EXAMPLES
 
 
+def _count_evaluations(monkeypatch: pytest.MonkeyPatch, module: Any) -> list[int]:
+    """Calls of ``module.evaluate`` from now on, in ``[0]`` (assign 0 to restart)."""
+    calls = [0]
+    real = module.evaluate
+
+    def counting(*args: Any, **kwargs: Any) -> Any:
+        calls[0] += 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, "evaluate", counting)
+    return calls
+
+
 @pytest.fixture
 def closure_evaluations(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     """Calls of ``evaluate()`` made by the closure, in ``[0]`` (assign 0 to restart).
 
     Every evaluation of the closure goes through :mod:`~mjstruct.kinematics.closure_newton`.
     """
-    calls = [0]
-    real = closure_newton.evaluate
+    return _count_evaluations(monkeypatch, closure_newton)
 
-    def counting(*args: Any, **kwargs: Any) -> Any:
-        calls[0] += 1
-        return real(*args, **kwargs)
 
-    monkeypatch.setattr(closure_newton, "evaluate", counting)
-    return calls
+@pytest.fixture
+def scan_evaluations(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """Calls of ``evaluate()`` made by the continuation's scans of the residual, in ``[0]``.
+
+    :func:`~mjstruct.kinematics.closure_continuation.scanned_roots` evaluates through
+    :mod:`~mjstruct.kinematics.closure_continuation` (the rest of the closure does not).
+    """
+    return _count_evaluations(monkeypatch, closure_continuation)

@@ -25,18 +25,10 @@ def _model(name: str) -> KinematicModel:
 
 
 def test_class_iv_closes_in_few_evaluations_and_two_rounds(
-    closure_evaluations: list[int], monkeypatch: pytest.MonkeyPatch
+    closure_evaluations: list[int], scan_evaluations: list[int]
 ) -> None:
     model = _model("class-iv-seed003")
-    calls = closure_evaluations
-    scans = [0]
-    real_scan = closure_continuation.evaluate
-
-    def scan(*args: Any, **kwargs: Any) -> Any:
-        scans[0] += 1
-        return real_scan(*args, **kwargs)
-
-    monkeypatch.setattr(closure_continuation, "evaluate", scan)
+    calls, scans = closure_evaluations, scan_evaluations
     sol = closure.close(model, model.sweep(3600))
     assert sol.converged.all() and sol.error.max() <= closure.NEWTON_TOL
     assert sol.jumps == () and sol.reseeded == ()
