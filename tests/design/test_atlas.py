@@ -61,7 +61,7 @@ def test_atlas_ranks_every_four_bar_choice_and_writes_the_best(tmp_path, capsys)
     task = {"task": "path", "point": "P",
             "targets": [[0.5, 1.1], [0.3, 1.1], [0.1, 0.9], [0.0, 0.5], [0.1, 0.25],
                         [0.3, 0.4], [0.5, 0.7], [0.6, 1.0]],
-            "solver": {"population": 5, "generations": 10, "restarts": 1}}  # fmt: skip
+            "solver": {"restarts": 1, "screen": 1000, "local_starts": 4}}  # fmt: skip
     r = synthesize_atlas(task, links=4, mj=False, seed=1)
     objectives = [x.result.objective for x in r.ranked if x.result is not None]
     assert objectives == sorted(objectives) and len(r.ranked) == 2

@@ -16,7 +16,7 @@ from mjstruct.design.function import freudenstein, lengths_of
 from mjstruct.io import mechanism_to_dict, read_mechanism
 from project_paths import EXAMPLES
 
-FAST = {"population": 5, "generations": 8, "restarts": 1}
+FAST = {"restarts": 1, "screen": 3000, "local_starts": 4}
 
 
 def _wrap(a: float) -> float:
@@ -69,7 +69,7 @@ def test_function_from_three_points_is_exact_from_the_start():
     q = [1.2, 1.9, 2.6]
     task = {"task": "function", "mechanism": mechanism_to_dict(m), "output": "3",
             "targets": [[v, link_angle(truth, v, "3")] for v in q], "fixed": ["O1", "O2"],
-            "solver": {"population": 4, "generations": 1, "restarts": 1}}  # fmt: skip
+            "solver": {"restarts": 1, "screen": 1000, "local_starts": 4}}  # fmt: skip
     task["mechanism"]["joints"][1]["at"] = [0.1, 0.35]
     r = synthesize(task, seed=0)
     assert r.max_error < 1e-10  # Freudenstein's start already meets the three points

@@ -17,7 +17,7 @@ from mjstruct.io import mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
 from project_paths import EXAMPLES
 
-FAST = {"population": 6, "generations": 25, "restarts": 1}
+FAST = {"restarts": 1, "screen": 1000, "local_starts": 4}
 
 
 def _known(n: int, span: float):
@@ -89,7 +89,13 @@ def test_same_seed_same_file():
         "point": "M",
         "targets": targets,
         "timing": list(q),
-        "solver": {"population": 5, "generations": 5, "restarts": 1},
+        "solver": {
+            "population": 5,
+            "generations": 5,
+            "restarts": 1,
+            "screen": 1000,
+            "local_starts": 4,
+        },
     }
     a = synthesize(task, seed=4)
     b = synthesize(task, seed=4)
@@ -103,7 +109,7 @@ def test_a_requirement_no_candidate_meets_is_no_feasible_design():
     task = {"task": "path", "mechanism": start, "point": "M", "targets": targets,
             "motion": "crank-rocker", "region": {"O1": box, "O2": [[0.9, 0], [0.95, 0.05]]},
             "transmission_deg": 85.0,
-            "solver": {"population": 5, "generations": 5, "restarts": 1}}  # fmt: skip
+            "solver": {"restarts": 1, "screen": 1000, "local_starts": 4}}  # fmt: skip
     with pytest.raises(NumericalError, match=r"^no feasible design: best constraint violation"):
         synthesize(task, seed=0)
 

@@ -36,7 +36,7 @@ WATT = {
     "points": [{"id": "P", "link": "5", "at": [1.1, 0.6]}],
 }
 Q = 1.0 + np.linspace(0.0, 2.4, 6)  # the driver values of the targets (q_ref = 1)
-FAST = {"population": 4, "generations": 3, "restarts": 1}
+FAST = {"population": 4, "generations": 3, "restarts": 1, "screen": 1000, "local_starts": 4}
 FRAME = ["O1", "O2", "O3"]
 
 

@@ -116,8 +116,9 @@ def test_command_without_feasible_design_exits_1_and_writes_nothing(tmp_path, ca
             _task(
                 motion="crank-rocker",
                 transmission_deg=85.0,
+                lengths=[0.3, 0.35],  # the frame pivots' boxes hold them >= 0.85 apart
                 region={"O1": box, "O2": [[0.9, 0], [0.95, 0.05]]},
-                solver={"population": 5, "generations": 3, "restarts": 1},
+                solver={"screen": 200, "local_starts": 2, "restarts": 1},
             )
         )
     )
@@ -137,7 +138,13 @@ def test_command_writes_the_design_and_reports(tmp_path, capsys):
                 timing=timing,
                 fixed=["O1", "O2"],
                 name="pick and place",
-                solver={"population": 5, "generations": 10, "restarts": 1},
+                solver={
+                    "population": 5,
+                    "generations": 10,
+                    "restarts": 1,
+                    "screen": 1000,
+                    "local_starts": 4,
+                },
             )
         )
     )

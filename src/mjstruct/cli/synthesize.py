@@ -41,6 +41,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--mj", action="store_true", help="with --atlas: chains with multiple joints too"
     )
+    p.add_argument(
+        "--budget",
+        type=float,
+        metavar="SECONDS",
+        help="anytime run: stop after SECONDS (wall clock) with the best design found",
+    )
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
 
@@ -53,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--workers: need at least 1, got {args.workers}")
     if args.seed < 0:
         raise MechanismError(f"--seed: must be >= 0, got {args.seed}")
+    if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
+        raise MechanismError(f"--budget: must be a positive number of seconds, got {args.budget}")
     check_output(args.output, OUTPUT_SUFFIXES, name="-o")
     if args.history is not None:
         check_output(args.history, FIGURE_SUFFIXES, name="--history")
@@ -64,9 +72,15 @@ def run(args: argparse.Namespace) -> int:
         return _run_atlas(args)
     task = load_task(args.task)
     bar = ProgressBar.for_cli(f"synthesize {task.kind}", args.json)
-    with flag_names(workers="--workers", scheduler="--scheduler", seed="--seed"):
+    flags = {"workers": "--workers", "scheduler": "--scheduler", "seed": "--seed"}
+    with flag_names(budget="--budget", **flags):
         result = synthesize(
-            task, seed=args.seed, workers=args.workers, scheduler=args.scheduler, progress=bar
+            task,
+            seed=args.seed,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=bar,
+            budget=args.budget,
         )
     _write(result.mechanism, args.output)
     _charts(args, result)

@@ -13,7 +13,7 @@ Examples
 >>> task = {"task": "path", "mechanism": m, "point": "M",
 ...         "targets": [[0.40, 0.60], [0.25, 0.85], [0.00, 0.85]],
 ...         "timing": [1.05, 1.55, 2.05], "fixed": ["O1", "O2"],
-...         "solver": {"population": 6, "generations": 30, "restarts": 1}}
+...         "solver": {"restarts": 1, "screen": 1000, "local_starts": 4}}
 >>> r = synthesize(task, seed=1)
 >>> r.feasible, len(r.errors), r.mechanism.extra["synthesis"]["point"]
 (True, 3, 'M')
@@ -21,6 +21,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -45,6 +46,7 @@ def synthesize(
     workers: int = 1,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
+    budget: float | None = None,
 ) -> DesignResult:
     """Synthesise the mechanism a task asks for.
 
@@ -55,6 +57,8 @@ def synthesize(
     workers : processes for the independent restarts (at most the number of cores).
     scheduler : a Dask scheduler address to run the restarts on instead.
     progress : called as ``progress(done, total)`` while the search runs.
+    budget : seconds (wall clock): an anytime run that returns the best feasible
+        design found in that time (:func:`~mjstruct.design.search.solve`).
 
     Raises
     ------
@@ -65,6 +69,8 @@ def synthesize(
     """
     if workers < 1:
         raise MechanismError(f"workers: need at least 1, got {workers}")
+    if budget is not None and not (math.isfinite(budget) and budget > 0):
+        raise MechanismError(f"budget: must be a positive number of seconds, got {budget}")
     t = load_task(task)
     if t.kind == "fourbar-ms":
         from mjstruct.design.fourbar_ms import synthesize_fourbar_ms
@@ -84,4 +90,12 @@ def synthesize(
         problem = motion_problem(t)
     from mjstruct.design.search import solve
 
-    return solve(problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress)
+    return solve(
+        problem,
+        seed,
+        t.solver,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        budget=budget,
+    )

@@ -216,14 +216,61 @@ class Run:
     seconds: float
 
 
+def local_solve(problem: FitProblem, x: FloatArray) -> Outcome | None:
+    """scipy's ``least_squares`` from the global variables ``x`` on the problem's
+    residuals and Jacobian, judged by :meth:`FitProblem.finish` (None when the solver
+    refuses the start)."""
+    from scipy.optimize import least_squares
+
+    z0, zlo, zhi = problem.local_start(x)
+    try:
+        with np.errstate(all="ignore"):
+            ls = least_squares(
+                problem.residuals,
+                z0,
+                jac=problem.jacobian,
+                bounds=(zlo, zhi),
+                method="trf",
+                x_scale="jac",
+                ftol=LOCAL_TOL,
+                xtol=LOCAL_TOL,
+                gtol=LOCAL_TOL,
+                max_nfev=LOCAL_EVALUATIONS,
+            )
+    except (ValueError, np.linalg.LinAlgError):
+        return None  # the global stage's verdict stands
+    return problem.finish(np.asarray(ls.x, float), local=True)
+
+
 def run_once(
     problem: FitProblem,
     seed: int,
-    solver: Mapping[str, int | float],
+    solver: Mapping[str, Any],
     progress: Progress | None = None,
+    deadline: float | None = None,
+    round_index: int = 0,
 ) -> Run:
-    """One global search from ``seed``, the local stage from its best, the verdicts."""
-    from scipy.optimize import NonlinearConstraint, differential_evolution, least_squares
+    """One restart of the search ``solver["method"]`` names (``multistart``:
+    :mod:`mjstruct.design.multistart`; ``de``: differential evolution, below) from
+    ``seed``; past ``deadline`` (a ``time.perf_counter()`` value) it stops starting
+    new work and returns what it has."""
+    if str(solver.get("method", "de")) == "multistart":
+        from mjstruct.design.multistart import run_multistart
+
+        return run_multistart(problem, seed, solver, progress, deadline, round_index)
+    return run_de(problem, seed, solver, progress, deadline)
+
+
+def run_de(
+    problem: FitProblem,
+    seed: int,
+    solver: Mapping[str, Any],
+    progress: Progress | None = None,
+    deadline: float | None = None,
+) -> Run:
+    """One global search by differential evolution from ``seed``, the local stage
+    from its best members and from every starting design, the verdicts."""
+    from scipy.optimize import NonlinearConstraint, differential_evolution
 
     t0 = time.perf_counter()
     problem.evaluations = 0
@@ -235,7 +282,7 @@ def run_once(
     generations = int(solver["generations"])
     step = [0]
 
-    def record(*_: Any) -> None:
+    def record(*_: Any) -> bool:
         step[0] += 1
         history.append(
             (
@@ -246,6 +293,7 @@ def run_once(
         )
         if progress is not None:
             progress(min(step[0], generations), generations)
+        return deadline is not None and time.perf_counter() > deadline
 
     kwargs: dict[str, Any] = {}
     if batch.names:
@@ -267,25 +315,14 @@ def run_once(
         **kwargs,
     )
     outcomes = [problem.finish(np.asarray(de.x, float), local=False)]
-    for x in _local_starts(problem, de, int(solver.get("local_starts", LOCAL_STARTS))):
-        z0, zlo, zhi = problem.local_start(x)
-        try:
-            with np.errstate(all="ignore"):
-                ls = least_squares(
-                    problem.residuals,
-                    z0,
-                    jac=problem.jacobian,
-                    bounds=(zlo, zhi),
-                    method="trf",
-                    x_scale="jac",
-                    ftol=LOCAL_TOL,
-                    xtol=LOCAL_TOL,
-                    gtol=LOCAL_TOL,
-                    max_nfev=LOCAL_EVALUATIONS,
-                )
-        except (ValueError, np.linalg.LinAlgError):
-            continue  # the global stage's verdict stands
-        outcomes.append(problem.finish(np.asarray(ls.x, float), local=True))
+    outcomes += [problem.finish(x, local=False) for x in x0]  # never worse than a start
+    local = _local_starts(problem, de, LOCAL_STARTS) + list(x0)
+    for k, x in enumerate(local):
+        if deadline is not None and time.perf_counter() > deadline and k > 0:
+            break
+        o = local_solve(problem, x)
+        if o is not None:
+            outcomes.append(o)
     best = min((o for o in outcomes if o.feasible), key=lambda o: o.objective, default=None)
     if best is not None:
         history.append((problem.evaluations, time.perf_counter() - t0, best.objective))
@@ -308,9 +345,9 @@ def latin_hypercube(n: int, d: int, rng: np.random.Generator) -> FloatArray:
 def screened_start(
     problem: FitProblem, lo: FloatArray, hi: FloatArray, x0: FloatArray, members: int, seed: int
 ) -> FloatArray:
-    """The first population: the best ``members`` of ``SCREEN`` times as many Latin
-    hypercube samples and the starting design, judged in one batched call (feasible
-    ones by energy first, then the others by their worst margin)."""
+    """The first population: the starting designs and the best of ``SCREEN`` times
+    ``members`` Latin hypercube samples, judged in one batched call (feasible ones by
+    energy first, then the others by their worst margin)."""
     members = max(members, 5)
     sample = latin_hypercube(SCREEN * members, len(lo), np.random.default_rng(seed))
     X = np.vstack([np.atleast_2d(x0), lo + (hi - lo) * sample])
@@ -322,7 +359,9 @@ def screened_start(
     feasible = worst >= MARGIN_SLACK
     key = np.where(feasible, a.energy, np.inf)
     order = np.lexsort((-worst, key))  # energy among the feasible, then least violation
-    init: FloatArray = X[order[:members]]
+    keep = list(range(len(np.atleast_2d(x0))))  # every start belongs to the population
+    keep += [int(i) for i in order if i >= len(keep)][: members - len(keep)]
+    init: FloatArray = X[keep]
     return init
 
 
@@ -348,20 +387,45 @@ def _local_starts(problem: FitProblem, de: Any, count: int) -> list[FloatArray]:
     return starts
 
 
-def _run_task(task: tuple[FitProblem, int, Mapping[str, int | float]]) -> Run:
-    problem, seed, solver = task
-    return run_once(problem, seed, solver)
+def _restart_bar(
+    progress: Progress, k: int, restarts: int, t0: float, budget: float | None
+) -> Progress:
+    """Restart k's progress as the whole run's: its share of the restarts, or of the
+    budget's time."""
+
+    def bar(i: int, n: int) -> None:
+        if budget is None:
+            progress(k * n + i, restarts * n)
+        else:
+            spent = min(time.perf_counter() - t0, budget)
+            progress(int(1000 * spent / budget), 1000)
+
+    return bar
+
+
+def _run_task(task: tuple[FitProblem, int, Mapping[str, Any], float | None, int]) -> Run:
+    problem, seed, solver, budget, k = task
+    deadline = None if budget is None else time.perf_counter() + budget
+    return run_once(problem, seed, solver, deadline=deadline, round_index=k)
 
 
 def solve(
     problem: FitProblem,
     seed: int | None,
-    solver: Mapping[str, int | float],
+    solver: Mapping[str, Any],
     workers: int = 1,
     scheduler: str | None = None,
     progress: Progress | None = None,
+    budget: float | None = None,
 ) -> DesignResult:
-    """Run ``restarts`` two-stage searches; the best feasible verdict is the design.
+    """Run ``restarts`` searches (restart k of ``multistart`` screens 2^k times as
+    many); the best feasible verdict is the design.
+
+    ``budget`` (seconds, wall clock): an anytime run.  In this process, restarts go on
+    (k = 0, 1, 2, ..., whatever ``restarts`` says) until the budget is spent, each
+    stopping its local solves or generations at the deadline; on workers, each of the
+    ``restarts`` runs gets the whole budget.  The design is then the best feasible one
+    found in the time, which depends on the machine's speed.
 
     Raises
     ------
@@ -371,25 +435,24 @@ def solve(
     """
     t0 = time.perf_counter()
     restarts = int(solver["restarts"])
-    subseeds = seeds(seed, restarts)
     runs: list[Run] = []
     if workers <= 1 and scheduler is None:
-        for k, s in enumerate(subseeds):
-            bar = None
-            if progress is not None:
-                total = restarts * int(solver["generations"])
-                done = k * int(solver["generations"])
-
-                def bar(i: int, n: int, done: int = done, total: int = total) -> None:
-                    assert progress is not None
-                    progress(done + i, total)
-
-            runs.append(run_once(problem, s, solver, bar))
+        deadline = None if budget is None else t0 + budget
+        k = 0
+        while k < restarts or (deadline is not None and time.perf_counter() < deadline):
+            bar = None if progress is None else _restart_bar(progress, k, restarts, t0, budget)
+            s = seeds(seed, k + 1)[k]
+            runs.append(run_once(problem, s, solver, bar, deadline, k))
+            k += 1
+            if deadline is not None and time.perf_counter() >= deadline:
+                break
     else:
         from mjstruct.synthesis.parallel import run_tasks
 
-        tasks = [(problem, s, solver) for s in subseeds]
+        subseeds = seeds(seed, restarts)
+        tasks = [(problem, s, solver, budget, k) for k, s in enumerate(subseeds)]
         runs = list(run_tasks(_run_task, tasks, workers, progress, scheduler))
+    restarts = len(runs)
     outcomes = [o for r in runs for o in r.outcomes]
     history: list[tuple[int, float, float]] = []
     evals, secs, best = 0, 0.0, math.inf

@@ -79,13 +79,19 @@ KNOWN_KEYS = frozenset(
     }
 )
 #: keys of the optional ``solver`` table and their defaults
-SOLVER_DEFAULTS: dict[str, int | float] = {
-    "population": 8,  # members per design variable (scipy's popsize)
-    "generations": 150,  # at most, per global search
+SOLVER_DEFAULTS: dict[str, int | float | str] = {
+    "method": "multistart",  # the global stage: "multistart" or "de" (SOLVER_METHODS)
+    "screen": 20000,  # multistart: candidates screened by the first restart (2^k x on k)
+    "local_starts": 16,  # multistart: basins solved locally by the first restart (2^k x)
+    "population": 8,  # de: members per design variable (scipy's popsize)
+    "generations": 150,  # de: at most, per global search
     "restarts": 2,  # independent global searches (seeds derived from the task's seed)
     "samples": 72,  # path samples over a driver cycle (untimed matching, range checks)
-    "tol": 1e-7,  # relative convergence of the global search
+    "tol": 1e-7,  # de: relative convergence of the global search
 }
+#: the global stages ``solver.method`` may name: screened multistart (the default,
+#: :mod:`mjstruct.design.multistart`) or scipy's differential evolution
+SOLVER_METHODS = ("multistart", "de")
 #: the default ``generations`` for timed targets (function tasks, and path or motion
 #: tasks with ``timing``): with the driver values given the local stage has the whole
 #: problem (no matching of targets to driver values to find), so the global stage only
@@ -142,7 +148,7 @@ class Task:
     motion: str | None = None
     full_turn: bool = False
     transmission_deg: float | None = None
-    solver: Mapping[str, int | float] = field(default_factory=lambda: dict(SOLVER_DEFAULTS))
+    solver: Mapping[str, int | float | str] = field(default_factory=lambda: dict(SOLVER_DEFAULTS))
     source: str = "task"
 
     @property
@@ -520,11 +526,11 @@ def _optional_number(
     return x
 
 
-def _solver(data: Mapping[str, Any], timed: bool = False) -> dict[str, int | float]:
+def _solver(data: Mapping[str, Any], timed: bool = False) -> dict[str, int | float | str]:
     raw = data.get("solver", {})
     if not isinstance(raw, Mapping):
         raise MechanismError("solver: expected an object")
-    out: dict[str, int | float] = dict(SOLVER_DEFAULTS)
+    out: dict[str, int | float | str] = dict(SOLVER_DEFAULTS)
     if timed:
         out["generations"] = TIMED_GENERATIONS
     for key, value in raw.items():
@@ -537,9 +543,16 @@ def _solver(data: Mapping[str, Any], timed: bool = False) -> dict[str, int | flo
                 raise MechanismError(f"{where}: must be in (0, 1), got {x:g}")
             out[key] = x
             continue
+        if key == "method":
+            if value not in SOLVER_METHODS:
+                raise MechanismError(
+                    f"{where}: unknown method {_shown(value)} (one of {', '.join(SOLVER_METHODS)})"
+                )
+            out[key] = str(value)
+            continue
         if isinstance(value, bool) or not isinstance(value, int):
             raise MechanismError(f"{where}: expected a whole number, got {_shown(value)}")
-        least = {"population": 4, "generations": 1, "restarts": 1, "samples": 8}[key]
+        least = {"population": 4, "generations": 1, "restarts": 1, "samples": 8}.get(key, 1)
         if not least <= value <= 100_000:
             raise MechanismError(f"{where}: must be in [{least}, 100000], got {value}")
         out[key] = value
