@@ -2,7 +2,7 @@
 
 Owns :func:`run_multistart`, one restart of the ``multistart`` method (the default
 ``solver.method``; scipy's differential evolution stays available as ``"de"``,
-:func:`mjstruct.design.search.run_once`):
+:func:`mjstruct.design.search.run_de`):
 
 1. **screen**: ``solver.screen`` Latin hypercube samples of the global variables
    (times 2^k on restart k: later restarts look wider) and the task's starting
@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from mjstruct.design.search import (
+from mjstruct.design.problem import (
     MARGIN_SLACK,
     FitProblem,
     Outcome,

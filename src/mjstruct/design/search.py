@@ -1,25 +1,26 @@
-"""The two-stage search shared by the fitting tasks: global, then local, then verdict.
+"""The search shared by the fitting tasks: global stage, local stage, verdict.
 
-Owns :class:`FitProblem` (what a task kind provides: bounds and start of its global
-variables, the assessment of a whole population in one kinematics call, the
-residuals and Jacobian of its local stage, and the verdict on a design) and
-:func:`solve`, which runs it:
+Owns :func:`solve`, which runs ``restarts`` searches of the ``solver.method`` a task
+names and keeps the best feasible verdict, and :func:`run_once`, one restart:
 
-1. **global**: scipy's ``differential_evolution`` (vectorised: each generation's
-   trial population is one :meth:`FitProblem.assess` call, so one batched kinematics
-   evaluation; constraints by its feasibility rules on the task's margins), started
-   from a Latin hypercube with the starting geometry as one member;
-2. **local**: scipy's ``least_squares`` from the global best on the targets'
-   residuals (the driver values of the targets become variables where they are
-   free), with the Jacobian the problem gives (driver-value columns exact from the
-   kinematics' analogs, geometry columns by central differences of one batched
-   evaluation);
-3. **verdict**: :meth:`FitProblem.finish` moves each stage's best with the
-   kinematics itself (:mod:`mjstruct.design.verify`); the best feasible one wins.
+1. **global**: ``multistart`` (the default, :mod:`mjstruct.design.multistart`: a
+   screened sample, its basins, a local solve in each) or ``de``: scipy's
+   ``differential_evolution`` (:func:`run_de`; vectorised: each generation's trial
+   population is one :meth:`~mjstruct.design.problem.FitProblem.assess` call, so one
+   batched kinematics evaluation; constraints by its feasibility rules on the task's
+   margins), started from the starting designs and a screened Latin hypercube;
+2. **local**: :func:`~mjstruct.design.problem.local_solve` (scipy's
+   ``least_squares`` on the targets' residuals, the driver values of the targets
+   variables where they are free) from the global stage's best members and from
+   every starting design;
+3. **verdict**: :meth:`~mjstruct.design.problem.FitProblem.finish` moves each
+   stage's best with the kinematics itself (:mod:`mjstruct.design.verify`); the best
+   feasible one wins, so a feasible start bounds the result.
 
 ``restarts`` independent runs (seeds spawned from the task's seed, so the same seed
 gives the same design whatever the number of workers) run in this process, on the
 process pool the atlas uses (``workers``) or on a Dask cluster (``scheduler``).
+``budget`` makes the run anytime (see :func:`solve`).
 
 Examples
 --------
@@ -33,110 +34,26 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from mjstruct.design.problem import (
+    LOCAL_STARTS,
+    MARGIN_SLACK,
+    Assessment,
+    FitProblem,
+    Outcome,
+    Progress,
+    Run,
+    latin_hypercube,
+    local_solve,
+)
 from mjstruct.design.result import DesignResult
 from mjstruct.errors import NumericalError
-from mjstruct.mechanism import Mechanism
 from mjstruct.typing import FloatArray
-
-#: weight of a constraint's violation among the local stage's residuals (relative
-#: to the mechanism's size)
-PENALTY = 10.0
-#: margins down to this count as met (rounding)
-MARGIN_SLACK = -1e-9
-#: local-stage evaluations at most (each: one residual vector, or one Jacobian)
-LOCAL_EVALUATIONS = 60
-#: the local stage's tolerances (scipy's ftol, xtol, gtol): it stops at rounding
-LOCAL_TOL = 1e-12
-#: local searches per restart: from the global best and the next best distinct members
-LOCAL_STARTS = 4
-
-Progress = Callable[[int, int], None]
-
-
-@dataclass(frozen=True)
-class Assessment:
-    """A population judged in one call: ``energy`` (sum of squared target errors per
-    candidate, inf where it cannot be measured) and ``margins`` (name -> per
-    candidate, >= 0 where met)."""
-
-    energy: FloatArray
-    margins: Mapping[str, FloatArray]
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """A design judged by the kinematics (see :meth:`FitProblem.finish`)."""
-
-    mechanism: Mechanism
-    objective: float
-    feasible: bool
-    errors: tuple[float, ...]
-    margins: Mapping[str, float]
-    details: Mapping[str, Any]
-    reason: str = ""
-
-    @property
-    def violation(self) -> float:
-        """The largest constraint violation (0 when every margin is met)."""
-        worst = min((v for v in self.margins.values() if math.isfinite(v)), default=0.0)
-        return max(0.0, -worst)
-
-
-class FitProblem:
-    """What a fitting task gives the search; subclasses fill in the methods.
-
-    ``evaluations`` counts the candidates the problem has evaluated (one per
-    candidate of a population, one per residual vector, one per column set of a
-    Jacobian's batch member).
-    """
-
-    kind = ""
-    targets = 0
-    scale = 1.0
-    evaluations = 0
-
-    def bounds(self) -> tuple[FloatArray, FloatArray]:
-        """Lower and upper bounds of the global variables."""
-        raise NotImplementedError
-
-    def start(self) -> FloatArray:
-        """The global variables of the starting design."""
-        raise NotImplementedError
-
-    def starts(self) -> list[FloatArray]:
-        """Designs the first population must hold: the start, and any exact solution
-        the task kind knows (Freudenstein's, Burmester's)."""
-        return [self.start()]
-
-    def assess(self, X: FloatArray) -> Assessment:
-        """Energy and margins of every row of ``X`` (one batched evaluation)."""
-        raise NotImplementedError
-
-    def local_start(self, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """The local stage's variables from global ones, with their bounds."""
-        raise NotImplementedError
-
-    def residuals(self, z: FloatArray) -> FloatArray:
-        """Target residuals (and constraint penalties) of local variables ``z``."""
-        raise NotImplementedError
-
-    def jacobian(self, z: FloatArray) -> FloatArray:
-        """d residuals / d z."""
-        raise NotImplementedError
-
-    def finish(self, z: FloatArray, local: bool) -> Outcome:
-        """The verdict on a design (``z``: local variables if ``local``, else global)."""
-        raise NotImplementedError
-
-    def energy_to_objective(self, energy: float) -> float:
-        """The root mean square target error of a sum of squared errors."""
-        return math.sqrt(energy / max(self.targets, 1)) if math.isfinite(energy) else math.inf
 
 
 def seeds(seed: int | None, count: int) -> list[int]:
@@ -204,42 +121,6 @@ class _Batch:
             a = self._run(X[missing])
             out[missing] = a.energy
         return np.where(np.isfinite(out), out, 1e300)
-
-
-@dataclass(frozen=True)
-class Run:
-    """One restart: its verdicts, its record and its cost."""
-
-    outcomes: tuple[Outcome, ...]
-    history: tuple[tuple[int, float, float], ...]
-    evaluations: int
-    seconds: float
-
-
-def local_solve(problem: FitProblem, x: FloatArray) -> Outcome | None:
-    """scipy's ``least_squares`` from the global variables ``x`` on the problem's
-    residuals and Jacobian, judged by :meth:`FitProblem.finish` (None when the solver
-    refuses the start)."""
-    from scipy.optimize import least_squares
-
-    z0, zlo, zhi = problem.local_start(x)
-    try:
-        with np.errstate(all="ignore"):
-            ls = least_squares(
-                problem.residuals,
-                z0,
-                jac=problem.jacobian,
-                bounds=(zlo, zhi),
-                method="trf",
-                x_scale="jac",
-                ftol=LOCAL_TOL,
-                xtol=LOCAL_TOL,
-                gtol=LOCAL_TOL,
-                max_nfev=LOCAL_EVALUATIONS,
-            )
-    except (ValueError, np.linalg.LinAlgError):
-        return None  # the global stage's verdict stands
-    return problem.finish(np.asarray(ls.x, float), local=True)
 
 
 def run_once(
@@ -333,13 +214,6 @@ def run_de(
 
 #: candidates screened per member of the first population
 SCREEN = 10
-
-
-def latin_hypercube(n: int, d: int, rng: np.random.Generator) -> FloatArray:
-    """``n`` points in the unit cube ``d``, one in each of n strata of every axis."""
-    strata = np.argsort(rng.random((d, n)), axis=1).T
-    out: FloatArray = (strata + rng.random((n, d))) / n
-    return out
 
 
 def screened_start(

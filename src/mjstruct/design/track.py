@@ -53,8 +53,8 @@ from mjstruct.design.constraints import (
 )
 from mjstruct.design.matching import match_indices, ordered_match
 from mjstruct.design.population import DesignSpace, Population
+from mjstruct.design.problem import PENALTY, Assessment, FitProblem, Outcome
 from mjstruct.design.result import SYNTHESIS_KEY
-from mjstruct.design.search import PENALTY, Assessment, FitProblem, Outcome
 from mjstruct.design.task import Task
 from mjstruct.design.verify import check_motion
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict
