@@ -208,6 +208,11 @@ def render(
             value = details[key]
             shown = _num(value, ".4g") if isinstance(value, float) else str(value)
             lines.append(f"  {label}: {shown}")
+    if details.get("on_bound"):
+        lines.append(
+            "  on a bound of its box (a wider region may hold a better design): "
+            + ", ".join(details["on_bound"])
+        )
     lines.append(f"wrote {output} (the designed mechanism; its targets under 'synthesis')")
     if chart is not None:
         lines.append(f"wrote {chart} (objective against evaluations and time)")

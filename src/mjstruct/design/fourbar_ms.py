@@ -659,6 +659,30 @@ def _reference_name(ms: tuple[float, float, float]) -> str | None:
     return None
 
 
+def _any_line(task: Mapping[str, Any], seed: int | None) -> DesignResult:
+    """``change_point: true``: every line of system (4) tried; the one that meets the
+    other requirements best (least objective, then the lower line) is the design."""
+    found: list[DesignResult] = []
+    why: list[str] = []
+    for line in LINES:
+        try:
+            found.append(synthesize_fourbar_ms({**task, "change_point": line}, seed=seed))
+        except MechanismError as exc:
+            why.append(f"{line}: {str(exc).split(': ', 1)[-1]}")
+    if not found:
+        raise MechanismError(
+            "change_point: no line of system (4) meets the other requirements ("
+            + "; ".join(why)
+            + ")"
+        )
+    best = min(found, key=lambda r: r.objective)  # LINES in order: the lower line on ties
+    details = dict(best.details)
+    details["lines_tried"] = {
+        str(r.details["requirement"]["change_point"]): json_number(r.objective) for r in found
+    }
+    return dataclasses.replace(best, details=details)
+
+
 def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -> DesignResult:
     """The matrix synthesis of a hinged four-bar: the ``fourbar-ms`` task.
 
@@ -666,8 +690,9 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
     ----------
     task : the task's keys (``docs/contract.md``, "Synthesis"): ``ms`` (``"MS1"`` ...
         ``"MS5"`` or ``[P1, P2, P3]``), or a requirement — ``change_point`` (``"4.1"``,
-        ``"4.2"``, ``"4.3"``) with two of ``swing_deg``, ``time_ratio``, ``dwell``,
-        ``P1``, ``P2`` (``P1`` = 0.5 when only one is given) and ``motion``
+        ``"4.2"``, ``"4.3"``, or ``true``: any line that can meet the others) with two
+        of ``swing_deg``, ``time_ratio``, ``dwell``, ``P1``, ``P2`` (``P1`` = 0.5 when
+        only one is given) and ``motion``
         (``crank-rocker`` by default) —; ``frame_length`` (1), ``assembly`` (+1 or -1),
         ``reference_deg``, ``coupler_point`` ``[u, v]``, ``clearance``, ``name``.
     seed : recorded in the result; the synthesis is deterministic and draws no
@@ -696,6 +721,8 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
             raise MechanismError(f"{key}: not a key of a {TASK} task (known: {', '.join(KEYS)})")
     if "task" in task and task["task"] != TASK:
         raise MechanismError(f"task: expected {TASK!r}, got {task['task']!r}")
+    if task.get("change_point") is True and "ms" not in task:
+        return _any_line(task, seed)
     motion = task.get("motion")
     if motion is not None and motion not in REQUIRED_MOTIONS:
         raise MechanismError(

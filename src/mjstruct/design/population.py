@@ -123,6 +123,20 @@ class DesignSpace:
         out: FloatArray = np.clip(x, self.lower, self.upper)
         return out
 
+    def on_bound(self, x: FloatArray, rel: float = 1e-6) -> list[str]:
+        """The variables of ``x`` left on a bound of their box (within ``rel`` of its
+        width), named ``"id.x (lower)"``, ``"id.y (upper)"``, ...: a box the search
+        pressed against, which may hold a better design outside it."""
+        out = []
+        width = np.maximum(self.upper - self.lower, 1e-300)
+        for i, v in enumerate(np.asarray(x, float)[: self.size]):
+            where = f"{self.names[i // 2]}.{'xy'[i % 2]}"
+            if v <= self.lower[i] + rel * width[i]:
+                out.append(f"{where} (lower)")
+            elif v >= self.upper[i] - rel * width[i]:
+                out.append(f"{where} (upper)")
+        return out
+
     def positions(self, X: FloatArray) -> dict[str, ComplexArray]:
         """Every joint centre and point per candidate (rows of ``X``): id -> (P,) array."""
         X = np.atleast_2d(X)

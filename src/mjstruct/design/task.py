@@ -89,6 +89,10 @@ SOLVER_DEFAULTS: dict[str, int | float | str] = {
     "samples": 72,  # path samples over a driver cycle (untimed matching, range checks)
     "tol": 1e-7,  # de: relative convergence of the global search
 }
+#: the smallest transmission angle (degrees) every task requires unless it says
+#: otherwise (``transmission_deg``; 0 switches the bound off, leaving only the guard
+#: against dead points): a four-bar below about 20 deg jams in practice
+DEFAULT_TRANSMISSION_DEG = 20.0
 #: the global stages ``solver.method`` may name: screened multistart (the default,
 #: :mod:`mjstruct.design.multistart`) or scipy's differential evolution
 SOLVER_METHODS = ("multistart", "de")
@@ -126,7 +130,8 @@ class Task:
     motion : four-bars: the required motion type, or None.
     full_turn : the driver must turn fully (untimed targets always need it).
     transmission_deg : the smallest angle allowed at the solved joint of every dyad
-        over the driver range (for a four-bar the transmission angle), or None.
+        over the driver range (for a four-bar the transmission angle): the task's, or
+        ``DEFAULT_TRANSMISSION_DEG``; 0 (or None) for no bound.
     solver : population, generations, restarts, samples and tol of the search.
     source : where the task came from (a file name, or ``"task"``).
     """
@@ -279,6 +284,8 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
             "which a double-rocker's input cannot make"
         )
     transmission = _optional_number(data, "transmission_deg", 0.0, 90.0, open_high=True)
+    if transmission is None:
+        transmission = DEFAULT_TRANSMISSION_DEG
     task = Task(
         kind,
         data,

@@ -444,6 +444,7 @@ class TrackProblem(FitProblem):
             "q_range": [float(v) for v in check.range],
             "min_transmission_deg": math.degrees(math.asin(min(1.0, check.sine))),
         }
+        details["on_bound"] = self.space.on_bound(Xg[0])
         if self.angle_offset:
             details["angle_offset"] = float(aoff[0])
         reason = check.reason
