@@ -19,7 +19,7 @@ from mjstruct.io import mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
 from project_paths import EXAMPLES
 
-FAST = {"restarts": 1, "screen": 1500, "local_starts": 4}
+FAST = {"restarts": 1, "screen": 1000, "local_starts": 3}
 
 
 def _task(**extra):
@@ -78,3 +78,71 @@ def test_change_point_true_takes_the_line_that_meets_the_requirements():
         synthesize_fourbar_ms(
             {"task": "fourbar-ms", "change_point": True, "swing_deg": 359, "time_ratio": 5}
         )
+
+
+def _rotated(d, angle):
+    r = complex(math.cos(angle), math.sin(angle))
+    out = json.loads(json.dumps(d))
+    for j in out["joints"] + out["points"]:
+        z = complex(*j["at"]) * r
+        j["at"] = [z.real, z.imag]
+    return out
+
+
+@pytest.mark.parametrize("free", [False, True])
+def test_timing_from_the_frame_line(free):
+    # the example four-bar turned by 0.7 rad: its crank angles measured from O1 -> O2 are
+    # the unturned example's world angles; with the frame pivots free the frame's
+    # direction is found, with them fixed it is given
+    m = mechanism_to_dict(read_mechanism(EXAMPLES / "four-bar.json"))
+    truth = _rotated(m, 0.7)
+    rel = KinematicModel.build(read_mechanism(EXAMPLES / "four-bar.json")).q_ref[0] + np.linspace(
+        0.0, 1.2, 5
+    )
+    targets = [coupler_point(truth, float(v) + 0.7) for v in rel]
+    start = _rotated(m, 0.7 if not free else 0.0)
+    task = {"task": "path", "mechanism": start, "point": "M", "timing": list(rel),
+            "timing_from": ["O1", "O2"], "transmission_deg": 0,
+            "targets": [[z.real, z.imag] for z in targets],
+            "solver": {"restarts": 1, "screen": 2000, "local_starts": 6}}  # fmt: skip
+    if not free:
+        task["fixed"] = ["O1", "O2"]
+    r = synthesize(task, seed=2)
+    d = mechanism_to_dict(r.mechanism)
+    at = {j["id"]: complex(*j["at"]) for j in d["joints"]}
+    frame = math.atan2((at["O2"] - at["O1"]).imag, (at["O2"] - at["O1"]).real)
+    assert abs(r.details["frame_angle"] - frame) < 1e-12
+    for v, t, q, e in zip(rel, targets, r.details["timing"], r.errors, strict=True):
+        assert abs(math.remainder(q - (v + frame), 2 * math.pi)) < 1e-9
+        assert abs(abs(coupler_point(d, float(v) + frame) - t) - e) < 1e-9
+    assert r.max_error < (1e-3 if free else 1e-7)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (["O1"], r"^timing_from: expected \[J1, J2\]"),
+        (["O1", "A"], r"^timing_from\[1\]: joint 'A' is not on the frame"),
+        (["O1", "X"], r"^timing_from\[1\]: 'X' is not a joint"),
+        (["O2", "O2"], r"^timing_from: the two joints must differ"),
+    ],
+)
+def test_bad_timing_from_names_the_field(value, message):
+    task = _task(timing=[0.1 * k for k in range(8)], timing_from=value)
+    with pytest.raises(MechanismError, match=message):
+        task_from_dict(task)
+    with pytest.raises(MechanismError, match=r"^timing_from: needs a timing list"):
+        task_from_dict(_task(timing_from=["O1", "O2"]))
+
+
+def test_every_shipped_task_reads():
+    from mjstruct.design.task import read_task
+    from project_paths import ROOT
+
+    files = sorted((ROOT / "catalogs" / "tasks").glob("*.json"))
+    assert len(files) >= 7
+    for f in files:
+        t = read_task(f)
+        assert t.kind in ("path", "function", "motion") and len(t.targets) >= 5
+    line = read_task(ROOT / "catalogs" / "tasks" / "path-timed5-frame-free.json")
+    assert line.timing_from == ("O1", "O2") and not line.timing_offset

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from mjstruct.design.problem import (
+    LOCAL_EVALUATIONS,
     MARGIN_SLACK,
     FitProblem,
     Outcome,
@@ -51,6 +52,9 @@ from mjstruct.typing import FloatArray, IntArray
 #: two screened candidates closer than this (max norm, relative to the bounds' width)
 #: share a basin: only the better one starts a local solve
 BASIN_RADIUS = 0.05
+#: the best local solves of a restart that go on, and for how many times as long
+POLISHED = 3
+POLISH = 6
 #: frames (candidates × driver samples) per batched screening call: bounds the memory
 #: of one call (a few tens of MB)
 SCREEN_FRAMES = 400_000
@@ -143,4 +147,15 @@ def run_multistart(
         history.append((problem.evaluations, time.perf_counter() - t0, best))
         if progress is not None:
             progress(k + 1, len(queue))
+    # the most promising basins get the rest: their solves go on, POLISH times longer
+    done = sorted((o for o in outcomes if o.local is not None), key=lambda o: o.objective)
+    for o in done[:POLISHED]:
+        if deadline is not None and time.perf_counter() > deadline:
+            break
+        more = local_solve(problem, X[0], POLISH * LOCAL_EVALUATIONS, z=o.local)
+        if more is not None:
+            outcomes.append(more)
+            if more.feasible:
+                best = min(best, more.objective)
+        history.append((problem.evaluations, time.perf_counter() - t0, best))
     return Run(tuple(outcomes), tuple(history), problem.evaluations, time.perf_counter() - t0)

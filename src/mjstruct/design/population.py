@@ -130,6 +130,8 @@ class DesignSpace:
         out = []
         width = np.maximum(self.upper - self.lower, 1e-300)
         for i, v in enumerate(np.asarray(x, float)[: self.size]):
+            if self.upper[i] <= self.lower[i]:
+                continue  # a box of zero width: the position is given, not pressed
             where = f"{self.names[i // 2]}.{'xy'[i % 2]}"
             if v <= self.lower[i] + rel * width[i]:
                 out.append(f"{where} (lower)")

@@ -18,6 +18,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -64,6 +65,7 @@ class Outcome:
     margins: Mapping[str, float]
     details: Mapping[str, Any]
     reason: str = ""
+    local: FloatArray | None = None  # the local variables of a local solve
 
     @property
     def violation(self) -> float:
@@ -133,13 +135,26 @@ class Run:
     seconds: float
 
 
-def local_solve(problem: FitProblem, x: FloatArray) -> Outcome | None:
-    """scipy's ``least_squares`` from the global variables ``x`` on the problem's
-    residuals and Jacobian, judged by :meth:`FitProblem.finish` (None when the solver
-    refuses the start)."""
+def local_solve(
+    problem: FitProblem,
+    x: FloatArray,
+    evaluations: int = LOCAL_EVALUATIONS,
+    z: FloatArray | None = None,
+) -> Outcome | None:
+    """scipy's ``least_squares`` from the global variables ``x`` (or from the local
+    variables ``z`` of an earlier solve, to go on with it) on the problem's residuals
+    and Jacobian, at most ``evaluations`` of them, judged by :meth:`FitProblem.finish`
+    (None when the solver refuses the start).  The outcome's ``details["z"]`` holds
+    the local variables reached."""
     from scipy.optimize import least_squares
 
     z0, zlo, zhi = problem.local_start(x)
+    if z is not None:
+        z0 = z
+    # a box of zero width (a joint kept on a line) is a variable least squares must
+    # not move: scipy wants lower < upper, so it gets a width at rounding level
+    zhi = np.where(zhi > zlo, zhi, zlo + 1e-12 * (1.0 + np.abs(zlo)))
+    z0 = np.clip(z0, zlo, zhi)
     try:
         with np.errstate(all="ignore"):
             ls = least_squares(
@@ -152,11 +167,13 @@ def local_solve(problem: FitProblem, x: FloatArray) -> Outcome | None:
                 ftol=LOCAL_TOL,
                 xtol=LOCAL_TOL,
                 gtol=LOCAL_TOL,
-                max_nfev=LOCAL_EVALUATIONS,
+                max_nfev=evaluations,
             )
     except (ValueError, np.linalg.LinAlgError):
         return None  # the global stage's verdict stands
-    return problem.finish(np.asarray(ls.x, float), local=True)
+    zx = np.asarray(ls.x, float)
+    o = problem.finish(zx, local=True)
+    return dataclasses.replace(o, local=zx)
 
 
 def latin_hypercube(n: int, d: int, rng: np.random.Generator) -> FloatArray:

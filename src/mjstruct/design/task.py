@@ -40,7 +40,7 @@ import stat
 import sys
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -68,6 +68,7 @@ KNOWN_KEYS = frozenset(
         "targets",
         "timing",
         "timing_offset",
+        "timing_from",
         "angle_offset",
         "region",
         "lengths",
@@ -134,6 +135,9 @@ class Task:
         ``DEFAULT_TRANSMISSION_DEG``; 0 (or None) for no bound.
     solver : population, generations, restarts, samples and tol of the search.
     source : where the task came from (a file name, or ``"task"``).
+    timing_from : two frame joints (J1, J2): the timing is the driver's angle measured
+        from the direction J1 -> J2 (a design variable where they move), or None (the
+        contract's q).
     """
 
     kind: str
@@ -155,6 +159,7 @@ class Task:
     transmission_deg: float | None = None
     solver: Mapping[str, int | float | str] = field(default_factory=lambda: dict(SOLVER_DEFAULTS))
     source: str = "task"
+    timing_from: tuple[str, str] | None = None
 
     @property
     def timed(self) -> bool:
@@ -305,8 +310,30 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
         _solver(data, timed=kind == "function" or timing is not None),
         source,
     )
+    if "timing_from" in data:
+        task = replace(task, timing_from=_timing_from(data, m, timing))
     _check_consistent(task)
     return task
+
+
+def _timing_from(data: Mapping[str, Any], m: Mechanism, timing: Any) -> tuple[str, str]:
+    """``timing_from: [J1, J2]``: two distinct joints of the frame, with a timing list."""
+    raw = data["timing_from"]
+    if not (isinstance(raw, list) and len(raw) == 2):
+        raise MechanismError(
+            f"timing_from: expected [J1, J2], two frame joints, got {_shown(raw)}"
+        )
+    ids = [str(x) for x in raw]
+    for k, jid in enumerate(ids):
+        if not any(j.id == jid for j in m.joints):
+            raise MechanismError(f"timing_from[{k}]: {jid!r} is not a joint of the mechanism")
+        if m.frame not in m.joint(jid).links:
+            raise MechanismError(f"timing_from[{k}]: joint {jid!r} is not on the frame")
+    if ids[0] == ids[1]:
+        raise MechanismError("timing_from: the two joints must differ (they give a direction)")
+    if timing is None:
+        raise MechanismError("timing_from: needs a timing list (the angles it measures)")
+    return ids[0], ids[1]
 
 
 # -- fields ---------------------------------------------------------------------------

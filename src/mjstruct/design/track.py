@@ -172,10 +172,16 @@ class TrackProblem(FitProblem):
         aoff = X[:, k + int(self.offset)] if self.angle_offset else np.zeros(P)
         return qoff, aoff
 
-    def _timing(self, qoff: FloatArray) -> FloatArray | None:
+    def _timing(self, qoff: FloatArray, Xg: FloatArray) -> FloatArray | None:
+        """The targets' driver values per candidate: the timing, plus the free offset,
+        plus (``timing_from``) the direction of the candidate's own frame line."""
         if self.timing is None:
             return None
         out: FloatArray = self.timing[None, :] + qoff[:, None]
+        if self.task.timing_from is not None:
+            j1, j2 = self.task.timing_from
+            P = self.space.positions(Xg)
+            out = out + np.angle(P[j2] - P[j1])[:, None]
         return out
 
     def _driver_values(self, q_ref: FloatArray, qt: FloatArray | None) -> tuple[FloatArray, slice]:
@@ -242,7 +248,7 @@ class TrackProblem(FitProblem):
         X = np.atleast_2d(X)
         Xg = X[:, : self.ng]
         qoff, aoff = self._offsets(X)
-        qt = self._timing(qoff)
+        qt = self._timing(qoff, Xg)
         S = self.samples + (self.targets if qt is not None else 0)
         pop = self.space.population(Xg, S)
         q, tcols = self._driver_values(pop.q_ref(), qt)
@@ -287,7 +293,7 @@ class TrackProblem(FitProblem):
         Xg = Z[:, : self.ng]
         qoff, aoff = self._offsets(Z)
         if self.timed:
-            qt = self._timing(qoff)
+            qt = self._timing(qoff, Xg)
             assert qt is not None
         else:
             qt = Z[:, self.ng + self.n_offsets :]
@@ -445,6 +451,10 @@ class TrackProblem(FitProblem):
             "min_transmission_deg": math.degrees(math.asin(min(1.0, check.sine))),
         }
         details["on_bound"] = self.space.on_bound(Xg[0])
+        if t.timing_from is not None:
+            P = self.space.positions(Xg)
+            j1, j2 = t.timing_from
+            details["frame_angle"] = float(np.angle(P[j2][0] - P[j1][0]))
         if self.angle_offset:
             details["angle_offset"] = float(aoff[0])
         reason = check.reason
