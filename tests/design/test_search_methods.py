@@ -117,3 +117,25 @@ def test_budget_flag_writes_history_in_json(tmp_path, capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["feasible"] and len(d["history"]) >= 2
     assert all(len(h) == 3 and h[0] >= 0 and h[1] >= 0 for h in d["history"])
+
+
+def test_many_untimed_targets_are_solved_on_a_thinned_set_then_all():
+    from mjstruct.design.path import path_problem
+    from mjstruct.design.task import task_from_dict
+
+    m = read_mechanism(EXAMPLES / "four-bar.json")
+    d = mechanism_to_dict(m)
+    q = KinematicModel.build(m).q_ref[0] + np.linspace(0, 2 * math.pi, 120, endpoint=False)
+    targets = [[z.real + 0.3, z.imag - 0.1] for z in (coupler_point(d, float(v)) for v in q)]
+    task = {"task": "path", "mechanism": d, "point": "M", "targets": targets,
+            "solver": {"restarts": 1, "screen": 300, "local_starts": 2}}  # fmt: skip
+    p = path_problem(task_from_dict(task))
+    c = p.coarse()
+    assert c.targets == 32 and p.targets == 120 and p.coarse() is not p
+    assert np.allclose(c.positions, p.positions[p.matched])
+    assert p.screen_frames == c.samples == 4 * 32  # the screen's cost: no 120 in it
+    r = synthesize(task, seed=0)
+    assert len(r.errors) == 120 and r.max_error < 1e-8  # the example, moved, exactly
+    moved = mechanism_to_dict(r.mechanism)
+    for v, t in zip(r.details["timing"], targets, strict=True):
+        assert abs(coupler_point(moved, float(v)) - complex(*t)) < 1e-8

@@ -119,8 +119,7 @@ def run_multistart(
     rng = np.random.default_rng(seed)
     n = int(solver["screen"]) * grow
     X = np.vstack([starts, lo + (hi - lo) * latin_hypercube(n, len(lo), rng)])
-    samples = int(getattr(problem, "samples", 72)) + problem.targets
-    energy, worst = screen(problem, X, samples)
+    energy, worst = screen(problem, X, int(problem.screen_frames))
     order = ranking(energy, worst)
     rank = np.empty(len(X))
     rank[order] = np.arange(len(X))
@@ -136,23 +135,36 @@ def run_multistart(
         if o.feasible:
             best = min(best, o.objective)
     history.append((problem.evaluations, time.perf_counter() - t0, best))
+    # many untimed targets: the basins are solved on a thinned set of them (the cost of
+    # a solve then does not grow with their number); the best go on with all of them
+    coarse = problem.coarse()
+    trial: list[Outcome] = []
     for k, i in enumerate(queue):
         if deadline is not None and time.perf_counter() > deadline and k > 0:
             break
-        solved = local_solve(problem, X[i])
+        solved = local_solve(coarse, X[i])
         if solved is not None:
-            outcomes.append(solved)
-            if solved.feasible:
-                best = min(best, solved.objective)
+            trial.append(solved)
+            if coarse is problem:
+                outcomes.append(solved)
+                if solved.feasible:
+                    best = min(best, solved.objective)
+        if coarse is not problem:  # its evaluations count as the problem's
+            problem.evaluations += coarse.evaluations
+            coarse.evaluations = 0
         history.append((problem.evaluations, time.perf_counter() - t0, best))
         if progress is not None:
             progress(k + 1, len(queue))
     # the most promising basins get the rest: their solves go on, POLISH times longer
-    done = sorted((o for o in outcomes if o.local is not None), key=lambda o: o.objective)
-    for o in done[:POLISHED]:
+    trial.sort(key=lambda o: (not o.feasible, o.objective))
+    for o in trial[:POLISHED]:
         if deadline is not None and time.perf_counter() > deadline:
             break
-        more = local_solve(problem, X[0], POLISH * LOCAL_EVALUATIONS, z=o.local)
+        assert o.local is not None
+        if coarse is problem:
+            more = local_solve(problem, X[0], POLISH * LOCAL_EVALUATIONS, z=o.local)
+        else:
+            more = local_solve(problem, o.local[: len(lo)], POLISH * LOCAL_EVALUATIONS)
         if more is not None:
             outcomes.append(more)
             if more.feasible:

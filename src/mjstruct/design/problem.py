@@ -86,6 +86,8 @@ class FitProblem:
     targets = 0
     scale = 1.0
     evaluations = 0
+    #: frames one candidate takes in :meth:`assess` (sizes the batched calls)
+    screen_frames = 72
 
     def bounds(self) -> tuple[FloatArray, FloatArray]:
         """Lower and upper bounds of the global variables."""
@@ -99,6 +101,10 @@ class FitProblem:
         """Designs the first population must hold: the start, and any exact solution
         the task kind knows (Freudenstein's, Burmester's)."""
         return [self.start()]
+
+    def coarse(self) -> FitProblem:
+        """The problem on fewer targets for cheap local solves (itself by default)."""
+        return self
 
     def assess(self, X: FloatArray) -> Assessment:
         """Energy and margins of every row of ``X`` (one batched evaluation)."""

@@ -135,11 +135,16 @@ def run_once(
     :mod:`mjstruct.design.multistart`; ``de``: differential evolution, below) from
     ``seed``; past ``deadline`` (a ``time.perf_counter()`` value) it stops starting
     new work and returns what it has."""
-    if str(solver.get("method", "de")) == "multistart":
-        from mjstruct.design.multistart import run_multistart
+    from threadpoolctl import threadpool_limits
 
-        return run_multistart(problem, seed, solver, progress, deadline, round_index)
-    return run_de(problem, seed, solver, progress, deadline)
+    # one BLAS thread: the local stage's small decompositions (an SVD of a few hundred
+    # rows per step) ran 30x slower in CPU time on two threads of a busy machine
+    with threadpool_limits(1):
+        if str(solver.get("method", "de")) == "multistart":
+            from mjstruct.design.multistart import run_multistart
+
+            return run_multistart(problem, seed, solver, progress, deadline, round_index)
+        return run_de(problem, seed, solver, progress, deadline)
 
 
 def run_de(

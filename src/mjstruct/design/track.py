@@ -37,6 +37,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -62,9 +63,12 @@ from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
 from mjstruct.singular.fourbar import fourbar_theory
-from mjstruct.typing import ComplexArray, FloatArray
+from mjstruct.typing import ComplexArray, FloatArray, IntArray
 
 TWO_PI = 2 * math.pi
+#: untimed targets matched per candidate by the global stage (more are thinned evenly
+#: along their order; the local stage fits them all)
+MATCHED_TARGETS = 32
 #: central-difference step of the geometry columns, relative to the size
 FD_STEP = 1e-6
 #: how far inside each margin the local stage's penalties start.  The penalties are
@@ -133,6 +137,15 @@ class TrackProblem(FitProblem):
         # samples (dead points are only screened here: the verdict sweeps finely)
         samples = int(task.solver["samples"])
         self.samples = max(samples, 4 * n) if timing is None else max(samples // 4, 8)
+        # untimed: the global stage matches at most MATCHED_TARGETS of the targets,
+        # spread along their order, on a cycle sampled for them: its cost per candidate
+        # does not grow with the number of targets (the local stage fits every one)
+        spread = np.round(np.linspace(0, n - 1, min(n, MATCHED_TARGETS)))
+        self.matched: IntArray = np.unique(spread).astype(int)
+        self.screen_samples = (
+            max(samples, 4 * len(self.matched)) if timing is None else self.samples
+        )
+        self.screen_frames = self.screen_samples + (n if timing is not None else 0)
         self.pairs = link_pairs(space.model.mechanism) if task.lengths else []
         self.ng = space.size
         self.extra_starts = list(starts)
@@ -165,6 +178,23 @@ class TrackProblem(FitProblem):
     def starts(self) -> list[FloatArray]:
         return [self.start(), *self.extra_starts]
 
+    def coarse(self) -> TrackProblem:
+        """Untimed with more than ``MATCHED_TARGETS`` targets: the same problem on the
+        targets the global stage matches (its local solves then cost the same whatever
+        the number of targets); otherwise itself."""
+        if self.timed or len(self.matched) == self.targets:
+            return self
+        out = copy.copy(self)
+        idx = self.matched
+        out.positions = None if self.positions is None else self.positions[idx]
+        out.angles = None if self.angles is None else self.angles[idx]
+        out.targets = len(idx)
+        out.matched = np.arange(len(idx))
+        out.samples = self.screen_samples
+        out.evaluations = 0
+        out._last = None
+        return out
+
     def _offsets(self, X: FloatArray) -> tuple[FloatArray, FloatArray]:
         P = len(X)
         k = self.ng
@@ -184,9 +214,11 @@ class TrackProblem(FitProblem):
             out = out + np.angle(P[j2] - P[j1])[:, None]
         return out
 
-    def _driver_values(self, q_ref: FloatArray, qt: FloatArray | None) -> tuple[FloatArray, slice]:
-        """Per candidate: the targets' values (timed) then the range samples."""
-        M = self.samples
+    def _driver_values(
+        self, q_ref: FloatArray, qt: FloatArray | None, M: int | None = None
+    ) -> tuple[FloatArray, slice]:
+        """Per candidate: the targets' values (timed) then ``M`` range samples."""
+        M = self.samples if M is None else M
         k = np.arange(M)[None, :]
         if qt is None:
             return q_ref[:, None] + TWO_PI * k / M, slice(0, 0)
@@ -217,15 +249,21 @@ class TrackProblem(FitProblem):
                 aj.append(pop.reshape(np.broadcast_to(pose.w[0], theta.shape)))
         return zj, aj
 
-    def _costs(self, z: ComplexArray | None, a: FloatArray | None, aoff: FloatArray) -> FloatArray:
-        """P × T × S squared errors of every target at every frame."""
+    def _costs(
+        self,
+        z: ComplexArray | None,
+        a: FloatArray | None,
+        aoff: FloatArray,
+        which: Any = slice(None),
+    ) -> FloatArray:
+        """P × T × S squared errors of the targets ``which`` (all) at every frame."""
         D: Any = 0.0
         if z is not None:
             assert self.positions is not None
-            D = D + np.abs(z[:, None, :] - self.positions[None, :, None]) ** 2
+            D = D + np.abs(z[:, None, :] - self.positions[which][None, :, None]) ** 2
         if a is not None:
             assert self.angles is not None
-            goal = self.angles[None, :, None] + aoff[:, None, None]
+            goal = self.angles[which][None, :, None] + aoff[:, None, None]
             D = D + (self.weight * wrap(a[:, None, :] - goal)) ** 2
         out: FloatArray = np.asarray(D, float)
         out[~np.isfinite(out)] = np.inf
@@ -249,15 +287,16 @@ class TrackProblem(FitProblem):
         Xg = X[:, : self.ng]
         qoff, aoff = self._offsets(X)
         qt = self._timing(qoff, Xg)
-        S = self.samples + (self.targets if qt is not None else 0)
+        S = self.screen_frames
         pop = self.space.population(Xg, S)
-        q, tcols = self._driver_values(pop.q_ref(), qt)
+        q, tcols = self._driver_values(pop.q_ref(), qt, self.screen_samples)
         ev = pop.evaluate(q, order=0)
         zj, aj = self._fitted(pop, ev, 0)
         z = None if zj is None else zj[0]
         a = None if aj is None else aj[0]
         if qt is None:
-            energy, _ = ordered_match(self._costs(z, a, aoff))
+            energy, _ = ordered_match(self._costs(z, a, aoff, self.matched))
+            energy = energy * (self.targets / len(self.matched))
         else:
             zt = None if z is None else z[:, tcols]
             at = None if a is None else a[:, tcols]
