@@ -61,16 +61,20 @@ def test_atlas_ranks_every_four_bar_choice_and_writes_the_best(tmp_path, capsys)
     task = {"task": "path", "point": "P",
             "targets": [[0.5, 1.1], [0.3, 1.1], [0.1, 0.9], [0.0, 0.5], [0.1, 0.25],
                         [0.3, 0.4], [0.5, 0.7], [0.6, 1.0]],
-            "solver": {"restarts": 1, "screen": 1000, "local_starts": 4}}  # fmt: skip
+            "solver": {"restarts": 1, "screen": 500, "local_starts": 2}}  # fmt: skip
     r = synthesize_atlas(task, links=4, mj=False, seed=1)
     objectives = [x.result.objective for x in r.ranked if x.result is not None]
     assert objectives == sorted(objectives) and len(r.ranked) == 2
+    assert r.details["raced"] == 2  # both screened, then both searched in full
     path = tmp_path / "task.json"
     path.write_text(json.dumps(task))
     out = tmp_path / "best.json"
     assert main(["synthesize", str(path), "-o", str(out), "--atlas", "4", "--seed", "1",
                  "--json"]) == 0  # fmt: skip
-    d = json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    d = json.loads(captured.out)
+    # no terminal: progress as plain lines, the last one whole
+    assert "synthesize --atlas 4: 4/4 candidate searches" in captured.err
     assert [x["objective"] for x in d["atlas"]] == [x.result.objective for x in r.ranked]
     assert d["objective"] == r.ranked[0].result.objective
     assert read_mechanism(out).extra["synthesis"]["point"] == "P"

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
+import time
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
 from mjstruct.cli.output import dumps, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
@@ -104,7 +106,9 @@ def _run_atlas(args: argparse.Namespace) -> int:
     from mjstruct.synthesis.parallel import ProgressBar
 
     data = read_task_data(args.task)
-    bar = ProgressBar.for_cli(f"synthesize --atlas {args.atlas}", args.json)
+    bar: Any = ProgressBar.for_cli(f"synthesize --atlas {args.atlas}", args.json)
+    if not bar.enabled:  # no terminal: plain lines on stderr, so a log shows it moving
+        bar = ProgressLines(f"synthesize --atlas {args.atlas}", sys.stderr)
     with flag_names(links="--atlas", workers="--workers", scheduler="--scheduler"):
         r = synthesize_atlas(
             data,
@@ -137,11 +141,32 @@ def _run_atlas(args: argparse.Namespace) -> int:
     for k, x in enumerate(ranking, 1):
         obj = _num(x["objective"], ".4e") if x["feasible"] else "-"
         where = f"frame {x['frame']}, driver {x['driver']}, point on {x['link']}"
-        note = "" if x["feasible"] else f"  ({x['reason'][:60]})"
+        note = "" if x["feasible"] else f"  ({x['reason']})"
         lines.append(f"  {k:4d}  {obj:>12s}  {x['name']} ({where}){note}")
     lines.append(render(best.to_dict(), args.output, args.history, args.targets_chart))
     emit_text("\n".join(lines))
     return 0
+
+
+class ProgressLines:
+    """Progress as plain lines (``label: 12/69 candidates, 34 s``) on a stream that is
+    not a terminal: at most one every ``every`` seconds, and the last."""
+
+    def __init__(self, label: str, stream: TextIO, every: float = 10.0) -> None:
+        self.label, self.stream, self.every = label, stream, every
+        self.t0 = time.perf_counter()
+        self.last = -math.inf
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.perf_counter()
+        if done < total and now - self.last < self.every:
+            return
+        self.last = now
+        print(
+            f"{self.label}: {done}/{total} candidate searches, {now - self.t0:.0f} s",
+            file=self.stream,
+            flush=True,
+        )
 
 
 def _charts(args: argparse.Namespace, result: Any) -> None:

@@ -36,6 +36,15 @@ from mjstruct.errors import MechanismError, NumericalError
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.isomorphism import certificate_of, colour_classes, link_joint_lists
 
+#: the brief search every candidate gets first (racing: the best then get the full one)
+SCREEN_SOLVER: dict[str, int | str] = {
+    "method": "multistart",
+    "screen": 2000,
+    "local_starts": 3,
+    "restarts": 1,
+}
+#: candidates that go on to the full search
+RACE_KEEP = 6
 #: task keys that name the joints of the task's own mechanism (not of the atlas's)
 OWN_KEYS = ("region", "fixed")
 
@@ -202,8 +211,14 @@ def synthesize_atlas(
     workers: int = 1,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
+    race: int | None = None,
 ) -> AtlasResult:
     """Try every candidate topology of the atlas on ``task`` (a task object) and rank them.
+
+    Racing: every candidate is first searched briefly (``SCREEN_SOLVER`` over the
+    task's solver settings); the best ``race`` (default ``RACE_KEEP``) with a feasible
+    design are then searched with the task's own settings, and keep the better of
+    their two designs.
 
     The task's ``mechanism`` is not used (each candidate brings its own), nor may the
     task name joints of it (``region``, ``fixed``).
@@ -240,6 +255,45 @@ def synthesize_atlas(
             checked = True
         data["mechanism"] = random_start(c, point, targets, np.random.default_rng(rng_seeds[k]))
         jobs.append((data, rng_seeds[k], c))
-    ranked = list(run_tasks(_one, jobs, workers, progress, scheduler))
-    ranked.sort(key=lambda r: (r.result is None, r.result.objective if r.result else math.inf))
-    return AtlasResult(tuple(ranked), time.perf_counter() - t0, seed, {"links": links, "mj": mj})
+    # racing: every candidate screened briefly, then the promising ones searched in full
+    # (the task's own solver settings, or the defaults)
+    brief = [(dict(data, solver=_brief(data.get("solver", {}))), sd, c) for data, sd, c in jobs]
+    keep = int(race) if race is not None else RACE_KEEP
+    total = len(jobs) + min(keep, len(jobs))
+
+    def first(done: int, _n: int) -> None:
+        if progress is not None:
+            progress(done, total)
+
+    ranked = list(run_tasks(_one, brief, workers, first, scheduler))
+    order = sorted(range(len(ranked)), key=lambda k: _rank_key(ranked[k]))
+    best = [k for k in order if ranked[k].result is not None][:keep]
+
+    def second(done: int, _n: int) -> None:
+        if progress is not None:
+            progress(len(jobs) + done, total)
+
+    for k, r in zip(best, run_tasks(_one, [jobs[k] for k in best], workers, second, scheduler),
+                    strict=True):  # fmt: skip
+        if r.result is not None and _rank_key(r) <= _rank_key(ranked[k]):
+            ranked[k] = r
+    if progress is not None:
+        progress(total, total)
+    ranked.sort(key=_rank_key)
+    details = {"links": links, "mj": mj, "raced": len(best), "screen_solver": SCREEN_SOLVER}
+    return AtlasResult(tuple(ranked), time.perf_counter() - t0, seed, details)
+
+
+def _brief(solver: Any) -> dict[str, Any]:
+    """``SCREEN_SOLVER`` over the task's solver settings, never larger than these."""
+    own = dict(solver) if isinstance(solver, Mapping) else {}
+    out = {**own, **SCREEN_SOLVER}
+    for key, value in SCREEN_SOLVER.items():
+        given = own.get(key)
+        if isinstance(value, int) and isinstance(given, int) and not isinstance(given, bool):
+            out[key] = min(value, given)
+    return out
+
+
+def _rank_key(r: Ranked) -> tuple[bool, float]:
+    return (r.result is None, r.result.objective if r.result else math.inf)
