@@ -146,3 +146,44 @@ def test_every_shipped_task_reads():
         assert t.kind in ("path", "function", "motion") and len(t.targets) >= 5
     line = read_task(ROOT / "catalogs" / "tasks" / "path-timed5-frame-free.json")
     assert line.timing_from == ("O1", "O2") and not line.timing_offset
+
+
+def _function_task(**extra):
+    from fourbar_oracle import link_angle
+
+    m = read_mechanism(EXAMPLES / "four-bar.json")
+    d = mechanism_to_dict(m)
+    q = KinematicModel.build(m).q_ref[0] + np.linspace(0.0, 1.6, 6)
+    targets = [[float(v), link_angle(d, float(v), "3")] for v in q]
+    return d, {"task": "function", "mechanism": d, "output": "3", "targets": targets,
+               "fixed": ["O1", "O2"], "transmission_deg": 0,
+               "solver": {"restarts": 1, "screen": 500, "local_starts": 2}, **extra}  # fmt: skip
+
+
+@pytest.mark.parametrize("objective", ["points", "range"])
+def test_function_results_report_the_largest_error_over_the_range(objective):
+    from scipy.interpolate import CubicSpline
+
+    from fourbar_oracle import link_angle
+
+    _, task = _function_task(objective=objective)
+    r = synthesize(task, seed=0)
+    assert len(r.errors) == 6 and len(r.details["timing"]) == 6
+    d = mechanism_to_dict(r.mechanism)
+    q = np.array([t[0] for t in task["targets"]])
+    spline = CubicSpline(q, np.unwrap([t[1] for t in task["targets"]]))
+    grid = np.linspace(q[0], q[-1], 41)
+    worst = max(abs(math.remainder(link_angle(d, float(v), "3") - spline(v), 2 * math.pi))
+                for v in grid)  # fmt: skip
+    worst = max(worst, max(r.errors))
+    assert abs(r.details["max_error_range"] - worst) < 1e-9
+    if objective == "points":  # the example itself fits the points exactly
+        assert r.max_error < 1e-8 and r.details["max_error_range"] > 1e3 * r.max_error
+
+
+def test_objective_key_is_checked():
+    _, task = _function_task(objective="minimax")
+    with pytest.raises(MechanismError, match=r"^objective: expected one of range, points"):
+        task_from_dict(task)
+    with pytest.raises(MechanismError, match=r"^objective: only for a function task"):
+        task_from_dict(_task(objective="points"))

@@ -54,7 +54,8 @@ def test_function_with_relative_input_and_output_angles():
     start["joints"][2]["at"] = [0.9, 0.8]
     task = {"task": "function", "mechanism": start, "output": "3",
             "targets": [[float(v - q[0]), _wrap(o - out[0])] for v, o in zip(q, out, strict=True)],
-            "timing_offset": True, "angle_offset": True, "solver": FAST}  # fmt: skip
+            "timing_offset": True, "angle_offset": True, "solver": FAST,
+            "objective": "points"}  # fmt: skip
     r = synthesize(task, seed=0)
     assert r.feasible and r.max_error < 1e-8
     d = mechanism_to_dict(r.mechanism)
@@ -70,7 +71,8 @@ def test_function_from_three_points_is_exact_from_the_start():
     q = [1.2, 1.9, 2.6]
     task = {"task": "function", "mechanism": mechanism_to_dict(m), "output": "3",
             "targets": [[v, link_angle(truth, v, "3")] for v in q], "fixed": ["O1", "O2"],
-            "solver": {"restarts": 1, "screen": 1000, "local_starts": 4}}  # fmt: skip
+            "solver": {"restarts": 1, "screen": 1000, "local_starts": 4},
+            "objective": "points", "transmission_deg": 0}  # fmt: skip
     task["mechanism"]["joints"][1]["at"] = [0.1, 0.35]
     r = synthesize(task, seed=0)
     assert r.max_error < 1e-10  # Freudenstein's start already meets the three points

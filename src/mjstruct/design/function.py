@@ -168,16 +168,44 @@ def function_problem(task: Task) -> TrackProblem:
     assert task.kind == "function" and task.mechanism is not None
     model = KinematicModel.build(task.mechanism)
     space = DesignSpace.build(model, task.region, task.fixed, margin=1.0, points=())
+    q, angles = task.targets[:, 0].copy(), task.targets[:, 1].copy()
+    dense = range_targets(q, angles)
+    fitted = task.objective == "range" and dense is not None
+    if fitted:
+        assert dense is not None
+        q, angles = np.concatenate([q, dense[0]]), np.concatenate([angles, dense[1]])
     problem = TrackProblem(
-        task,
-        None,
-        None,
-        task.link,
-        task.targets[:, 1].copy(),
-        1.0,
-        task.targets[:, 0].copy(),
-        angle_offset=task.angle_offset,
-        space=space,
+        task, None, None, task.link, angles, 1.0, q, angle_offset=task.angle_offset, space=space
     )
+    problem.range_check, problem.range_fitted = dense, fitted
     problem.extra_starts = freudenstein_starts(problem)
     return problem
+
+
+#: driver values between the first and last target at which a function task's error
+#: over the range is measured (and, with ``objective: "range"``, fitted)
+RANGE_SAMPLES = 41
+
+
+def range_targets(q: FloatArray, angles: FloatArray) -> tuple[FloatArray, FloatArray] | None:
+    """The function the targets describe over the interval they span: ``RANGE_SAMPLES``
+    equally spaced driver values and the angles of the cubic spline through the
+    targets there (angles unwrapped along q); None with fewer than three targets.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.linspace(0.0, 1.0, 6)
+    >>> qd, ad = range_targets(x, x**3)          # a cubic: the spline is exact
+    >>> bool(np.allclose(ad, qd**3)), qd[0], qd[-1]
+    (True, 0.0, 1.0)
+    """
+    from scipy.interpolate import CubicSpline
+
+    order = np.argsort(q)
+    qs, a = q[order], np.unwrap(angles[order])
+    if len(qs) < 3 or np.any(np.diff(qs) <= 0):
+        return None
+    grid = np.linspace(qs[0], qs[-1], RANGE_SAMPLES)
+    out: FloatArray = CubicSpline(qs, a)(grid)
+    return grid, out

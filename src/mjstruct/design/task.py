@@ -69,6 +69,7 @@ KNOWN_KEYS = frozenset(
         "timing",
         "timing_offset",
         "timing_from",
+        "objective",
         "angle_offset",
         "region",
         "lengths",
@@ -94,6 +95,9 @@ SOLVER_DEFAULTS: dict[str, int | float | str] = {
 #: otherwise (``transmission_deg``; 0 switches the bound off, leaving only the guard
 #: against dead points): a four-bar below about 20 deg jams in practice
 DEFAULT_TRANSMISSION_DEG = 20.0
+#: what a function task's objective measures: the error over the range the targets
+#: span (default) or at the targets only
+FUNCTION_OBJECTIVES = ("range", "points")
 #: the global stages ``solver.method`` may name: screened multistart (the default,
 #: :mod:`mjstruct.design.multistart`) or scipy's differential evolution
 SOLVER_METHODS = ("multistart", "de")
@@ -135,6 +139,8 @@ class Task:
         ``DEFAULT_TRANSMISSION_DEG``; 0 (or None) for no bound.
     solver : population, generations, restarts, samples and tol of the search.
     source : where the task came from (a file name, or ``"task"``).
+    objective : function: ``"range"`` (the error over the whole interval the targets
+        span is fitted) or ``"points"`` (only the targets'; the range is reported).
     timing_from : two frame joints (J1, J2): the timing is the driver's angle measured
         from the direction J1 -> J2 (a design variable where they move), or None (the
         contract's q).
@@ -160,6 +166,7 @@ class Task:
     solver: Mapping[str, int | float | str] = field(default_factory=lambda: dict(SOLVER_DEFAULTS))
     source: str = "task"
     timing_from: tuple[str, str] | None = None
+    objective: str = "range"
 
     @property
     def timed(self) -> bool:
@@ -312,6 +319,15 @@ def task_from_dict(data: Any, base: str | Path | None = None, source: str = "tas
     )
     if "timing_from" in data:
         task = replace(task, timing_from=_timing_from(data, m, timing))
+    if "objective" in data:
+        if kind != "function":
+            raise MechanismError("objective: only for a function task")
+        if data["objective"] not in FUNCTION_OBJECTIVES:
+            raise MechanismError(
+                f"objective: expected one of {', '.join(FUNCTION_OBJECTIVES)}, "
+                f"got {_shown(data['objective'])}"
+            )
+        task = replace(task, objective=str(data["objective"]))
     _check_consistent(task)
     return task
 

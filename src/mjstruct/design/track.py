@@ -149,6 +149,11 @@ class TrackProblem(FitProblem):
         self.pairs = link_pairs(space.model.mechanism) if task.lengths else []
         self.ng = space.size
         self.extra_starts = list(starts)
+        #: function over the range: dense (driver values, angles) between the targets,
+        #: and whether they are fitted (``objective: "range"``: they follow the task's
+        #: targets in ``angles``) or only reported (``"points"``)
+        self.range_check: tuple[FloatArray, FloatArray] | None = None
+        self.range_fitted = False
         self.evaluations = 0
         #: the last residuals' point and margins (the Jacobian's next question)
         self._last: tuple[bytes, dict[str, FloatArray]] | None = None
@@ -458,8 +463,14 @@ class TrackProblem(FitProblem):
         if not local and not self.timed:
             z, _, _ = self.local_start(z)  # the matched samples' driver values
         Z = z[None, :]
-        Xg, _, aoff, qt = self._split(Z)
+        Xg, qoff, aoff, qt = self._split(Z)
         q = qt[0]
+        goal_angles = self.angles
+        n_task = len(self.task.targets)
+        if self.range_check is not None and len(q) == n_task:  # objective "points"
+            q = np.concatenate([q, self.range_check[0] + qoff[0]])
+            assert goal_angles is not None
+            goal_angles = np.concatenate([goal_angles, self.range_check[1]])
         m = self.space.mechanism(Xg[0])
         ids = (self.point,) if self.point is not None else ()
         links = (self.link,) if self.link is not None else ()
@@ -473,8 +484,11 @@ class TrackProblem(FitProblem):
         if self.link is not None:
             assert self.angles is not None
             ang = check.angles.get(self.link, np.full(len(q), np.nan))
-            sq = sq + (self.weight * wrap(ang - self.angles - aoff[0])) ** 2
+            sq = sq + (self.weight * wrap(ang - goal_angles - aoff[0])) ** 2
         errors = np.sqrt(sq)
+        range_error = float(np.max(errors)) if len(q) > n_task else None
+        if self.range_check is not None and not self.range_fitted:
+            sq = sq[:n_task]  # objective "points": the range is reported, not fitted
         t = self.task
         margins: dict[str, float] = {}
         need = 0.0 if t.transmission_deg is None else math.sin(math.radians(t.transmission_deg))
@@ -485,11 +499,13 @@ class TrackProblem(FitProblem):
             )
         details: dict[str, Any] = {
             "stage": "local" if local else "global",
-            "timing": [float(v) for v in check.q],
+            "timing": [float(v) for v in check.q[:n_task]],
             "q_range": [float(v) for v in check.range],
             "min_transmission_deg": math.degrees(math.asin(min(1.0, check.sine))),
         }
         details["on_bound"] = self.space.on_bound(Xg[0])
+        if range_error is not None:
+            details["max_error_range"] = range_error
         if t.timing_from is not None:
             P = self.space.positions(Xg)
             j1, j2 = t.timing_from
@@ -512,8 +528,8 @@ class TrackProblem(FitProblem):
                 reason = reason or f"the four-bar is a {got}, not a {t.motion}"
         rms = float(np.sqrt(np.mean(sq))) if np.isfinite(sq).all() else math.inf
         feasible = check.ok and all(v >= -1e-9 for v in margins.values()) and math.isfinite(rms)
-        out = with_synthesis(m, t, [float(v) for v in check.q])
-        errs = tuple(float(e) for e in errors)
+        out = with_synthesis(m, t, [float(v) for v in check.q[:n_task]])
+        errs = tuple(float(e) for e in errors[:n_task])
         return Outcome(out, rms, feasible, errs, margins, details, reason)
 
 
