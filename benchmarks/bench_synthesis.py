@@ -27,7 +27,10 @@ Times are the CPU time of this process (``time.process_time``: both run in one
 thread; other jobs on the shared machine disturb it less than the wall clock).
 
 Run: ``python benchmarks/bench_synthesis.py [--seeds 5] [--problems line6,timed5]
-[--batch-only] [--atlas] [--stages timed5]``.  Prints per problem and seed, then
+[--batch-only] [--atlas] [--stages timed5] [--race [--limit SECONDS]]``.  ``--race``:
+mjstruct against scipy's DE vectorised (``vectorized=True``, deferred updating) on a
+vectorised closed form, CPU time to each problem's target (``TARGETS``; "never" when a
+contender does not reach it) and the best objective against CPU time.  Prints per problem and seed, then
 medians and the ratios (``--stages P``: only where mjstruct's time goes on P).
 """
 
@@ -397,6 +400,115 @@ def stage_times(name: str, seeds: int) -> None:
     print(f"  {'whole run':36s} {total / seeds:6.3f} s")
 
 
+# -- race: CPU time to a target, objective against time ---------------------------------
+
+#: the target per problem: the best value a long plain DE run reaches on the same
+#: formulation (curve18: population 30, 4000 generations, 254 s CPU, as measured for
+#: issue 33), or an exact fit (line6, timed5)
+TARGETS = {"line6": 1e-10, "curve18": 3.61e-3, "ellipse10": 0.699, "timed5": 1e-10}
+#: CPU seconds at which the curves are printed
+CURVE_AT = (0.5, 1, 2, 5, 10, 20, 50, 100)
+
+
+def vectorised_objective(X: np.ndarray, targets: np.ndarray, timing: Any) -> np.ndarray:
+    """``baseline_objective`` of every column of ``X`` (variables x candidates) at once."""
+    X = np.atleast_2d(X)
+    r1, r2, r3, r4, rcx, rcy, th0, x0, y0 = X[:9]
+    theta2 = np.asarray(timing)[:, None] if timing is not None else X[9:]
+    A = r2 * np.exp(1j * theta2)
+    e = r1 - A
+    f = np.abs(e)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        alpha = np.arccos((r3 * r3 + f * f - r4 * r4) / (2 * r3 * f))
+    C = A + (rcx + 1j * rcy) * np.exp(1j * (np.angle(e) + alpha))
+    C = complex(0, 0) + (x0 + 1j * y0) + C * np.exp(1j * th0)
+    err = np.sum(np.abs(C - targets[:, None]) ** 2, axis=0)
+    err = np.where(np.isfinite(err), err, 1e6)
+    L = np.sort(X[:4], axis=0)
+    v = np.maximum(0.0, L[0] + L[3] - L[1] - L[2]) + np.maximum(
+        0.0, r2 - np.min(X[[0, 2, 3]], axis=0)
+    )
+    if timing is None:
+        steps = np.mod(np.diff(theta2, axis=0), 2 * math.pi).sum(axis=0)
+        back = np.mod(-np.diff(theta2, axis=0), 2 * math.pi).sum(axis=0)
+        v = v + np.minimum(np.maximum(0, steps - 2 * math.pi), np.maximum(0, back - 2 * math.pi))
+    out: np.ndarray = err + PENALTY * v
+    return out
+
+
+def race_baseline(name: str, seed: int, limit: float) -> list[tuple[float, float]]:
+    """scipy's DE, vectorised (deferred updating), on the closed form until ``limit``
+    CPU seconds: (CPU seconds, best feasible sum of squared errors) per generation."""
+    from scipy.optimize import differential_evolution
+
+    p = PROBLEMS[name]
+    targets = np.array([complex(*t) for t in p["targets"]])
+    lo, hi = p["r"]
+    box = p["box"]
+    bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
+    if p["timing"] is None:
+        bounds += [(0.0, 2 * math.pi)] * len(targets)
+    t0 = time.process_time()
+    curve: list[tuple[float, float]] = []
+    best = [math.inf]
+
+    def note(intermediate_result: Any) -> bool:
+        f, ok = baseline_score(name, np.asarray(intermediate_result.x))
+        if ok:
+            best[0] = min(best[0], f)
+        spent = time.process_time() - t0
+        curve.append((spent, best[0]))
+        return spent > limit or best[0] <= TARGETS[name]
+
+    differential_evolution(
+        vectorised_objective, bounds, args=(targets, p["timing"]), seed=seed,
+        vectorized=True, updating="deferred", maxiter=100_000, tol=0, callback=note,
+    )  # fmt: skip
+    return curve
+
+
+def race_mjstruct(name: str, seed: int) -> list[tuple[float, float]]:
+    """mjstruct's default search: (CPU seconds, best sum of squared errors so far) after
+    each stage, from its history (wall seconds mapped to this process's CPU time)."""
+    from mjstruct.design.api import synthesize
+
+    clock: list[tuple[float, float]] = []
+    w0, c0 = time.perf_counter(), time.process_time()
+
+    def tick(_done: int, _total: int) -> None:
+        clock.append((time.perf_counter() - w0, time.process_time() - c0))
+
+    r = synthesize(task_for(name), seed=seed, progress=tick)
+    clock.append((time.perf_counter() - w0, time.process_time() - c0))
+    walls, cpus = np.array(clock).T
+    n = len(r.errors)  # history holds the RMS error: n * RMS^2 is the sum of squares
+    return [(float(np.interp(t, walls, cpus)), n * f * f) for _, t, f in r.history]
+
+
+def time_to(curve: list[tuple[float, float]], target: float) -> float | None:
+    return next((t for t, f in curve if f <= target * (1 + 1e-9)), None)
+
+
+def race(names: list[str], seeds: int, limit: float) -> None:
+    """Both contenders per problem and seed: CPU time to the target (or never, with the
+    best reached), and the best objective at the CURVE_AT CPU times."""
+    for name in names:
+        target = TARGETS[name]
+        print(f"{name}: target SSE {target:g}")
+        for seed in range(1, seeds + 1):
+            for who, curve in (("mjstruct", race_mjstruct(name, seed)),
+                               ("vectorised DE", race_baseline(name, seed, limit))):  # fmt: skip
+                hit = time_to(curve, target)
+                best = min((f for _, f in curve), default=math.inf)
+                when = f"{hit:.2f} s CPU" if hit is not None else f"never in {curve[-1][0]:.1f} s"
+                points = " ".join(
+                    f"{min((f for t, f in curve if t <= at), default=math.inf):.3g}"
+                    for at in CURVE_AT
+                )
+                print(f"  seed {seed} {who:14s} to target: {when:22s} best {best:.4g}  "
+                      f"curve at {CURVE_AT} s: {points}", flush=True)  # fmt: skip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seeds", type=int, default=5)
@@ -405,7 +517,12 @@ def main() -> None:
     ap.add_argument("--no-baseline", action="store_true")
     ap.add_argument("--atlas", action="store_true", help="only the six-bar atlas case")
     ap.add_argument("--stages", metavar="PROBLEM", help="only: where mjstruct's time goes")
+    ap.add_argument("--race", action="store_true", help="only: CPU time to target, curves")
+    ap.add_argument("--limit", type=float, default=300.0, help="--race: DE's CPU seconds")
     args = ap.parse_args()
+    if args.race:
+        race(args.problems.split(","), args.seeds, args.limit)
+        return
     if args.stages:
         stage_times(args.stages, args.seeds)
         return
