@@ -30,8 +30,9 @@ Run: ``python benchmarks/bench_synthesis.py [--seeds 5] [--problems line6,timed5
 [--batch-only] [--atlas] [--stages timed5] [--race [--limit SECONDS]]``.  ``--race``:
 mjstruct against scipy's DE vectorised (``vectorized=True``, deferred updating) on a
 vectorised closed form, CPU time to each problem's target (``TARGETS``; "never" when a
-contender does not reach it) and the best objective against CPU time.  Prints per problem and seed, then
-medians and the ratios (``--stages P``: only where mjstruct's time goes on P).
+contender does not reach it) and the best objective against CPU time.  Prints per
+problem and seed, then medians and the ratios (``--stages P``: only where mjstruct's
+time goes on P).
 """
 
 from __future__ import annotations
