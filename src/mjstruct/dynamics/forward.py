@@ -1,0 +1,381 @@
+"""Forward dynamics in time of a mechanism with any number of drivers and force elements.
+
+Owns :func:`forward_dynamics` and its result :class:`ForwardMotion`: the initial-value
+problem ``M(q) q̈ + h(q, q̇) = Q(q, q̇)`` of :mod:`mjstruct.dynamics.lagrange` solved by
+scipy's ``solve_ivp`` from ``(q0, q̇0)``, every driver a free generalised coordinate
+(an actuator acts only through a ``motor`` element).
+
+The state is ``(q, q̇, w)`` with ``w = ∫ Q_work · q̇ dt`` the work of the forces without
+a potential (the file's loads, dampers, motors), carried along without steering the
+steps: ``T + U − T(0) − U(0) − w`` (U the energy of gravity and the springs) is then a
+residual that measures the steps taken; in free motion without dampers it is the
+conservation of energy.
+
+Stiffness: the Jacobian of ``(q̇, q̈)`` at the initial state, by central differences;
+the stiffness ratio is ``S = ρ · t_end``, ρ its spectral radius (the fastest rate: a
+spring's angular frequency, a damper's inverse time constant), the number of the
+fastest time constants in the run.  ``auto`` integrates with DOP853 while
+``S <=`` :data:`STIFF_RATIO`, else with Radau, and says so.  The threshold is where
+``benchmarks/forward_dynamics_energy.py`` finds the two methods equally fast.
+
+Events: the speed of each driver changing sign (``turn``, recorded, the run goes on)
+and the mechanism leaving its assembly (``assembly``: the run ends there, the lists
+too).
+
+Examples
+--------
+>>> from mjstruct.io import read_mechanism
+>>> from mjstruct.catalog_files import example_path
+>>> r = forward_dynamics(read_mechanism(example_path("five-bar-springs-dynamics")), 0.2,
+...                      frames=5, estimate=False)
+>>> r.solver, r.q.shape, r.energy_residual < 1e-6
+('DOP853', (5, 2), True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mjstruct.dynamics.data import DynamicsData
+from mjstruct.dynamics.inputs import read_inputs
+from mjstruct.dynamics.lagrange import motion_terms
+from mjstruct.dynamics.time import (
+    MAX_EVALUATIONS,
+    REFERENCE_FACTOR,
+    SOLVERS,
+    TIGHTEST,
+)
+from mjstruct.errors import MechanismError, NumericalError, expect_int
+from mjstruct.kinematics.model import KinematicModel
+from mjstruct.mechanism import Mechanism
+from mjstruct.typing import FloatArray
+
+__all__ = ["STIFF_RATIO", "ForwardMotion", "forward_dynamics"]
+
+#: stiffness ratio ρ · t_end above which ``auto`` integrates implicitly (Radau)
+STIFF_RATIO = 3e3
+
+#: relative step of the central differences of the stiffness test
+JACOBIAN_STEP = 1e-6
+
+
+@dataclass(frozen=True)
+class ForwardMotion:
+    """q(t) of a mechanism with D drivers, what the solver did and how accurate it is.
+
+    Attributes
+    ----------
+    name : the mechanism's name.
+    drivers : the generalised coordinates (driver joints).
+    t : output times; ``q``, ``qdot``, ``qddot``: the motion at them (times × D).
+    kinetic, potential : the kinetic energy and the energy of gravity and the springs.
+    work : the work of the loads, dampers and motors from t = 0.
+    parameters : every parameter's value.
+    solver : the scipy method used; ``steps``, ``rhs_evaluations``,
+        ``jacobian_evaluations``, ``lu_decompositions`` its counts.
+    stiffness_ratio : ``ρ · t_end`` at the initial state.
+    error, error_qdot : largest difference in q and q̇ against a run at a 100× tighter
+        tolerance (None when not estimated).
+    energy_residual : largest ``|T + U − T(0) − U(0) − work|`` over the output times,
+        relative to the largest kinetic energy, change of U or work met.
+    stopped : ``"t_end"`` or ``"assembly"`` (the lists end where it left its assembly).
+    events : ``(t, kind, driver)``: ``turn`` where a driver's speed changes sign.
+    warnings : what the user must know.
+    """
+
+    name: str
+    drivers: tuple[str, ...]
+    t: FloatArray
+    q: FloatArray
+    qdot: FloatArray
+    qddot: FloatArray
+    kinetic: FloatArray
+    potential: FloatArray
+    work: FloatArray
+    parameters: dict[str, float]
+    solver: str
+    steps: int
+    rhs_evaluations: int
+    jacobian_evaluations: int
+    lu_decompositions: int
+    stiffness_ratio: float
+    error: float | None
+    error_qdot: float | None
+    energy_residual: float
+    stopped: str
+    events: tuple[tuple[float, str, str], ...] = ()
+    warnings: tuple[str, ...] = ()
+
+
+class _System:
+    """The first-order system ``y' = (q̇, q̈, Q_work · q̇)`` with its evaluation budget."""
+
+    def __init__(
+        self,
+        model: KinematicModel,
+        data: DynamicsData,
+        params: Mapping[str, float],
+        budget: int,
+    ) -> None:
+        self.model, self.data, self.params = model, data, params
+        self.D = len(model.drivers)
+        self.left = self.total = budget
+
+    def terms(self, y: FloatArray) -> tuple[FloatArray, float, bool]:
+        D = self.D
+        t = motion_terms(self.model, self.data, self.params, y[None, :D], y[None, D : 2 * D])
+        if not t.valid[0]:
+            return np.full(D, np.nan), np.nan, False
+        qdd = t.acceleration()[0]
+        return qdd, float(t.Q_work[0] @ y[D : 2 * D]), bool(np.isfinite(qdd).all())
+
+    def __call__(self, t: float, y: FloatArray) -> FloatArray:
+        self.left -= 1
+        if self.left < 0:
+            raise _Spent(t)
+        D = self.D
+        qdd, power, _ = self.terms(y)
+        return np.concatenate([y[D : 2 * D], qdd, [power]])
+
+    def stiffness(self, y0: FloatArray) -> float:
+        """Spectral radius of ∂(q̇, q̈)/∂(q, q̇) at ``y0`` (central differences)."""
+        D = self.D
+        J = np.zeros((2 * D, 2 * D))
+        J[:D, D:] = np.eye(D)
+        unit = np.array([self.model.scale if self.slide(i) else 1.0 for i in range(D)] * 2)
+        for k in range(2 * D):
+            h = JACOBIAN_STEP * (abs(y0[k]) + unit[k])
+            up, down = y0.copy(), y0.copy()
+            up[k] += h
+            down[k] -= h
+            a, _, ok_a = self.terms(up)
+            b, _, ok_b = self.terms(down)
+            if not (ok_a and ok_b):
+                return 0.0
+            J[D:, k] = (a - b) / (2 * h)
+        return float(np.max(np.abs(np.linalg.eigvals(J))))
+
+    def slide(self, i: int) -> bool:
+        return self.model.mechanism.joint(self.model.drivers[i]).kind == "P"
+
+
+class _Spent(Exception):
+    def __init__(self, t: float) -> None:
+        super().__init__(t)
+        self.t = t
+
+
+def _solve(
+    system: _System,
+    t_end: float,
+    y0: FloatArray,
+    method: str,
+    rtol: float,
+    atol: FloatArray,
+) -> Any:
+    from scipy.integrate import solve_ivp
+
+    D = system.D
+    events = []
+    for i in range(D):
+
+        def turn(t: float, y: FloatArray, i: int = i) -> float:
+            return float(y[D + i])
+
+        events.append(turn)
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(
+                system,
+                (0.0, t_end),
+                y0,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                dense_output=True,
+                events=events,
+            )
+    except _Spent as spent:
+        raise MechanismError(
+            f"max_evaluations: the run used its {system.total} right-hand-side evaluations "
+            f"by t = {spent.t:.6g} of {t_end:.6g} (a shorter t_end, a looser tolerance, or a "
+            "larger max_evaluations)"
+        ) from None
+    if sol.status == -1 and (sol.sol is None or len(sol.t) < 2):
+        raise NumericalError(f"the {method} integration failed at t = 0: {sol.message}")
+    return sol
+
+
+def _vector(
+    value: float | Sequence[float] | None, D: int, name: str, default: FloatArray
+) -> FloatArray:
+    if value is None:
+        return default.copy()
+    arr = np.atleast_1d(np.asarray(value, dtype=float)).reshape(-1)
+    if arr.size == 1 and D > 1:
+        raise MechanismError(f"{name}: give one value per driver ({D}), got one")
+    if arr.size != D:
+        raise MechanismError(f"{name}: give one value per driver ({D}), got {arr.size}")
+    if not np.isfinite(arr).all():
+        raise MechanismError(f"{name}: must be finite numbers")
+    return arr
+
+
+def forward_dynamics(
+    mechanism: Mechanism,
+    t_end: float,
+    *,
+    q0: float | Sequence[float] | None = None,
+    qdot0: float | Sequence[float] | None = None,
+    frames: int = 201,
+    method: str = "auto",
+    rtol: float = 1e-8,
+    atol: float | None = None,
+    parameters: Mapping[str, float] | None = None,
+    estimate: bool = True,
+    drivers: Iterable[str] | None = None,
+    max_evaluations: int = MAX_EVALUATIONS,
+) -> ForwardMotion:
+    """Integrate ``M(q) q̈ + h(q, q̇) = Q(q, q̇)`` from ``(q0, qdot0)`` over ``[0, t_end]``.
+
+    Parameters
+    ----------
+    mechanism : a mechanism with geometry and dynamics keys (``inertia``, ``loads``,
+        ``elements``, ...); any number of drivers.
+    t_end : the end time (> 0).
+    q0, qdot0 : one value per driver (default: the reference configuration, at rest).
+    frames : output times, equally spaced over ``[0, t_end]`` (>= 2).
+    method : ``auto`` (DOP853, or Radau when the stiffness ratio exceeds
+        :data:`STIFF_RATIO`), or one of ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``.
+    rtol, atol : the solver's tolerances (``atol`` in the drivers' units; default
+        ``rtol`` × a radian, or × the mechanism's size for a slide).
+    parameters : values overriding the file's; every parameter needs a value.
+    estimate : also run at a 100× tighter tolerance and report the difference.
+    drivers : the generalised coordinates (default: the file's drivers).
+    max_evaluations : right-hand-side evaluations the runs may take.
+
+    Raises
+    ------
+    MechanismError
+        bad input naming the parameter or field.
+    NumericalError
+        the solver fails at the start.
+    """
+    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.floating)):
+        raise MechanismError("t_end: must be a number")
+    if not np.isfinite(t_end) or t_end <= 0:
+        raise MechanismError(f"t_end: must be a finite number > 0, got {t_end}")
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
+        raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
+    if method not in SOLVERS:
+        raise MechanismError(f"method: unknown solver {method!r} (one of {', '.join(SOLVERS)})")
+    if not (np.isfinite(rtol) and TIGHTEST <= rtol < 1):
+        raise MechanismError(f"rtol: must be in [{TIGHTEST:g}, 1), got {rtol}")
+    if atol is not None and not (np.isfinite(atol) and atol > 0):
+        raise MechanismError(f"atol: must be a finite number > 0, got {atol}")
+    max_evaluations = expect_int(max_evaluations, "max_evaluations", 1)
+    model, data = read_inputs(mechanism, drivers, parameters=parameters)
+    D = len(model.drivers)
+    if D == 0:
+        raise MechanismError("drivers: forward dynamics needs at least one driver")
+    if data.unknown is not None:
+        raise MechanismError(
+            f"parameters.{data.unknown}: forward dynamics needs its value (pass parameters=)"
+        )
+    params = data.parameter_values()
+    start = _vector(q0, D, "q0", model.q_ref)
+    speed = _vector(qdot0, D, "qdot0", np.zeros(D))
+    for v in speed:
+        data.check_speed("qdot0", float(v))
+    system = _System(model, data, params, max_evaluations)
+    y0 = np.concatenate([start, speed, [0.0]])
+    first = motion_terms(model, data, params, start[None], speed[None])
+    if not first.valid[0]:
+        raise MechanismError(f"q0: the mechanism does not assemble at q0 = {list(start)}")
+    if not np.linalg.eigvalsh(first.M[0]).min() > 1e-14 * max(np.abs(first.M[0]).max(), 1e-300):
+        raise MechanismError(
+            "inertia: the mass matrix is singular at q0; every driver needs masses that move"
+        )
+    warnings: list[str] = []
+    rho = system.stiffness(y0)
+    stiffness = rho * float(t_end)
+    chosen = method
+    if method == "auto":
+        chosen = "Radau" if stiffness > STIFF_RATIO else "DOP853"
+        if chosen == "Radau":
+            warnings.append(
+                f"stiff: the stiffness ratio {stiffness:.3g} (fastest rate {rho:.3g}/s over "
+                f"t_end) exceeds {STIFF_RATIO:g}: implicit Radau"
+            )
+    unit = np.array([model.scale if system.slide(i) else 1.0 for i in range(D)] * 2)
+    a = rtol * unit if atol is None else np.full(2 * D, float(atol))
+    atol_vec = np.concatenate([a, [np.inf]])
+    sol = _solve(system, float(t_end), y0, chosen, rtol, atol_vec)
+    t_stop = float(sol.t[-1])
+    times = np.linspace(0.0, float(t_end), int(frames))
+    stopped = "t_end"
+    if sol.status == -1:
+        stopped = "assembly"
+        times = np.append(times[times < t_stop], t_stop)
+        warnings.append(
+            f"the mechanism leaves its assembly (or the solver cannot go on) near t = "
+            f"{t_stop:.9g}: the lists end there ({sol.message})"
+        )
+    Y = sol.sol(times)
+    Y[:, 0] = y0
+    Y[:, -1] = sol.y[:, -1]
+    q, qd, work = Y[:D].T.copy(), Y[D : 2 * D].T.copy(), Y[2 * D].copy()
+    terms = motion_terms(model, data, params, q, qd)
+    qdd = terms.acceleration()
+    T, U = terms.kinetic, terms.potential
+    resid = np.abs(T + U - T[0] - U[0] - work)
+    scale = max(float(np.max(T)), float(np.max(np.abs(U - U[0]))), float(np.max(np.abs(work))))
+    energy_residual = float(resid.max() / max(scale, 1e-300))
+    events = tuple(
+        (float(te), "turn", model.drivers[i])
+        for i, ts in enumerate(sol.t_events)
+        for te in ts
+        if 0 < te < t_stop
+    )
+    err_q = err_qd = None
+    if estimate:
+        fine = max(rtol / REFERENCE_FACTOR, TIGHTEST)
+        try:
+            ref = _solve(system, float(t_end), y0, chosen, fine, atol_vec / REFERENCE_FACTOR)
+            inside = times <= min(t_stop, float(ref.t[-1]))
+            Yr = ref.sol(times[inside])
+            Yr[:, 0] = y0
+            err_q = float(np.max(np.abs(Yr[:D].T - q[inside])))
+            err_qd = float(np.max(np.abs(Yr[D : 2 * D].T - qd[inside])))
+        except NumericalError as exc:
+            warnings.append(f"no error estimate: the reference run failed ({exc})")
+    if not (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()):
+        raise NumericalError("the integration produced non-finite values")
+    return ForwardMotion(
+        name=model.mechanism.name,
+        drivers=model.drivers,
+        t=times,
+        q=q,
+        qdot=qd,
+        qddot=qdd,
+        kinetic=T,
+        potential=U,
+        work=work,
+        parameters=dict(params),
+        solver=chosen,
+        steps=len(sol.t) - 1,
+        rhs_evaluations=int(sol.nfev),
+        jacobian_evaluations=int(sol.njev),
+        lu_decompositions=int(sol.nlu),
+        stiffness_ratio=stiffness,
+        error=err_q,
+        error_qdot=err_qd,
+        energy_residual=energy_residual,
+        stopped=stopped,
+        events=events,
+        warnings=tuple(warnings),
+    )
