@@ -40,9 +40,12 @@ from typing import Any
 
 import numpy as np
 
+from mjstruct.dynamics.analysis import dynamic_analysis
 from mjstruct.dynamics.data import DynamicsData
 from mjstruct.dynamics.inputs import read_inputs
 from mjstruct.dynamics.lagrange import motion_terms
+from mjstruct.dynamics.matrices import check_dimensions
+from mjstruct.dynamics.result import DynamicsResult
 from mjstruct.dynamics.time import (
     MAX_EVALUATIONS,
     REFERENCE_FACTOR,
@@ -84,6 +87,10 @@ class ForwardMotion:
         relative to the largest kinetic energy, change of U or work met.
     stopped : ``"t_end"`` or ``"assembly"`` (the lists end where it left its assembly).
     events : ``(t, kind, driver)``: ``turn`` where a driver's speed changes sign.
+    loads : the inverse dynamics along the motion at the output times (joint
+        reactions; ``driving`` is what the actuators would have to add beyond the
+        motors, zero up to round-off when the link equations agree with Lagrange's),
+        or None when not asked for.
     warnings : what the user must know.
     """
 
@@ -108,6 +115,7 @@ class ForwardMotion:
     energy_residual: float
     stopped: str
     events: tuple[tuple[float, str, str], ...] = ()
+    loads: DynamicsResult | None = None
     warnings: tuple[str, ...] = ()
 
 
@@ -239,6 +247,7 @@ def forward_dynamics(
     estimate: bool = True,
     drivers: Iterable[str] | None = None,
     max_evaluations: int = MAX_EVALUATIONS,
+    reactions: bool = True,
 ) -> ForwardMotion:
     """Integrate ``M(q) q̈ + h(q, q̇) = Q(q, q̇)`` from ``(q0, qdot0)`` over ``[0, t_end]``.
 
@@ -257,6 +266,7 @@ def forward_dynamics(
     estimate : also run at a 100× tighter tolerance and report the difference.
     drivers : the generalised coordinates (default: the file's drivers).
     max_evaluations : right-hand-side evaluations the runs may take.
+    reactions : also solve the link equations at the output times (:attr:`ForwardMotion.loads`).
 
     Raises
     ------
@@ -355,6 +365,17 @@ def forward_dynamics(
             warnings.append(f"no error estimate: the reference run failed ({exc})")
     if not (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()):
         raise NumericalError("the integration produced non-finite values")
+    loads = None
+    if reactions and model.mechanism.joints:
+        try:
+            check_dimensions(model)
+        except MechanismError as exc:
+            warnings.append(f"no joint reactions: {exc}")
+        else:
+            loads = dynamic_analysis(
+                model.mechanism, q=q, qdot=qd, qddot=qdd, model=model, parameters=params
+            )
+            warnings += loads.warnings
     return ForwardMotion(
         name=model.mechanism.name,
         drivers=model.drivers,
@@ -377,5 +398,6 @@ def forward_dynamics(
         energy_residual=energy_residual,
         stopped=stopped,
         events=events,
+        loads=loads,
         warnings=tuple(warnings),
     )
