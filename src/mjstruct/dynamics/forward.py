@@ -14,9 +14,14 @@ conservation of energy.
 Stiffness: the Jacobian of ``(q̇, q̈)`` at the initial state, by central differences;
 the stiffness ratio is ``S = ρ · t_end``, ρ its spectral radius (the fastest rate: a
 spring's angular frequency, a damper's inverse time constant), the number of the
-fastest time constants in the run.  ``auto`` integrates with DOP853 while
-``S <=`` :data:`STIFF_RATIO`, else with Radau, and says so.  The threshold is where
-``benchmarks/forward_dynamics_energy.py`` finds the two methods equally fast.
+fastest time constants in the run.  ``auto`` chooses Radau, and says so, when a
+*decaying* rate (an eigenvalue whose real part dominates: a stiff spring with a strong
+damper, a steep motor line) gives ``S >`` :data:`STIFF_RATIO`, or when a *vibration*
+(an imaginary part dominates: a stiff spring) does at a loose tolerance
+(``rtol >=`` :data:`LOOSE_RTOL`), where its small amplitude may be stepped over; a fast
+vibration at a tighter tolerance must be resolved by any method, DOP853 does it faster
+and the run says so.  The rule and the threshold are measured by
+``benchmarks/forward_dynamics_energy.py``.
 
 Events: the speed of each driver changing sign (``turn``, recorded, the run goes on)
 and the mechanism leaving its assembly (``assembly``: the run ends there, the lists
@@ -57,10 +62,13 @@ from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
 from mjstruct.typing import FloatArray
 
-__all__ = ["STIFF_RATIO", "ForwardMotion", "forward_dynamics"]
+__all__ = ["LOOSE_RTOL", "STIFF_RATIO", "ForwardMotion", "auto_method", "forward_dynamics"]
 
-#: stiffness ratio ρ · t_end above which ``auto`` integrates implicitly (Radau)
-STIFF_RATIO = 3e3
+#: stiffness ratio (a rate × t_end) above which ``auto`` integrates implicitly (Radau)
+STIFF_RATIO = 200.0
+
+#: the loosest tolerances, from which a fast vibration is stepped over implicitly
+LOOSE_RTOL = 1e-4
 
 #: relative step of the central differences of the stiffness test
 JACOBIAN_STEP = 1e-6
@@ -81,6 +89,9 @@ class ForwardMotion:
     solver : the scipy method used; ``steps``, ``rhs_evaluations``,
         ``jacobian_evaluations``, ``lu_decompositions`` its counts.
     stiffness_ratio : ``ρ · t_end`` at the initial state.
+    decay_rate, vibration_rate : the fastest rates (1/s) at the initial state whose
+        eigenvalue's real part dominates (a decay or growth) and whose imaginary part
+        does (a vibration, rad/s): what ``auto`` reads.
     error, error_qdot : largest difference in q and q̇ against a run at a 100× tighter
         tolerance (None when not estimated).
     energy_residual : largest ``|T + U − T(0) − U(0) − work|`` over the output times,
@@ -110,6 +121,8 @@ class ForwardMotion:
     jacobian_evaluations: int
     lu_decompositions: int
     stiffness_ratio: float
+    decay_rate: float
+    vibration_rate: float
     error: float | None
     error_qdot: float | None
     energy_residual: float
@@ -149,8 +162,10 @@ class _System:
         qdd, power, _ = self.terms(y)
         return np.concatenate([y[D : 2 * D], qdd, [power]])
 
-    def stiffness(self, y0: FloatArray) -> float:
-        """Spectral radius of ∂(q̇, q̈)/∂(q, q̇) at ``y0`` (central differences)."""
+    def stiffness(self, y0: FloatArray) -> tuple[float, float]:
+        """The fastest rates of ∂(q̇, q̈)/∂(q, q̇) at ``y0`` (central differences): the
+        largest |λ| of its eigenvalues whose real part dominates (a decay or a growth),
+        and of those whose imaginary part dominates (a vibration)."""
         D = self.D
         J = np.zeros((2 * D, 2 * D))
         J[:D, D:] = np.eye(D)
@@ -163,9 +178,14 @@ class _System:
             a, _, ok_a = self.terms(up)
             b, _, ok_b = self.terms(down)
             if not (ok_a and ok_b):
-                return 0.0
+                return 0.0, 0.0
             J[D:, k] = (a - b) / (2 * h)
-        return float(np.max(np.abs(np.linalg.eigvals(J))))
+        lam = np.linalg.eigvals(J)
+        real = np.abs(lam.real) >= np.abs(lam.imag)
+        return (
+            float(np.abs(lam[real]).max(initial=0.0)),
+            float(np.abs(lam[~real]).max(initial=0.0)),
+        )
 
     def slide(self, i: int) -> bool:
         return self.model.mechanism.joint(self.model.drivers[i]).kind == "P"
@@ -216,6 +236,28 @@ def _solve(
     if sol.status == -1 and (sol.sol is None or len(sol.t) < 2):
         raise NumericalError(f"the {method} integration failed at t = 0: {sol.message}")
     return sol
+
+
+def auto_method(decay: float, vibration: float, omega: float, rtol: float) -> tuple[str, str]:
+    """``auto``'s method from the stiffness ratios of the fastest decay and vibration,
+    and what to say about it (see the module docstring)."""
+    if decay > STIFF_RATIO:
+        return "Radau", (
+            f"stiff: a rate of {decay:.3g} decay times in the run (more than "
+            f"{STIFF_RATIO:g}): implicit Radau"
+        )
+    if vibration > STIFF_RATIO and rtol >= LOOSE_RTOL:
+        return "Radau", (
+            f"stiff: a vibration of {omega:.3g} rad/s, {vibration:.3g} radians in the run "
+            f"(more than {STIFF_RATIO:g}), at rtol {rtol:g}: implicit Radau steps over it"
+        )
+    if vibration > STIFF_RATIO:
+        return "DOP853", (
+            f"stiff: a vibration of {omega:.3g} rad/s, {vibration:.3g} radians in the run "
+            f"(more than {STIFF_RATIO:g}); at rtol {rtol:g} every method must resolve it and "
+            f"DOP853 does so faster than Radau; rtol >= {LOOSE_RTOL:g} steps over it (Radau)"
+        )
+    return "DOP853", ""
 
 
 def _vector(
@@ -311,16 +353,13 @@ def forward_dynamics(
             "inertia: the mass matrix is singular at q0; every driver needs masses that move"
         )
     warnings: list[str] = []
-    rho = system.stiffness(y0)
-    stiffness = rho * float(t_end)
+    decay, vibration = system.stiffness(y0)
+    stiffness = max(decay, vibration) * float(t_end)
     chosen = method
     if method == "auto":
-        chosen = "Radau" if stiffness > STIFF_RATIO else "DOP853"
-        if chosen == "Radau":
-            warnings.append(
-                f"stiff: the stiffness ratio {stiffness:.3g} (fastest rate {rho:.3g}/s over "
-                f"t_end) exceeds {STIFF_RATIO:g}: implicit Radau"
-            )
+        chosen, note = auto_method(decay * float(t_end), vibration * float(t_end), vibration, rtol)
+        if note:
+            warnings.append(note)
     unit = np.array([model.scale if system.slide(i) else 1.0 for i in range(D)] * 2)
     a = rtol * unit if atol is None else np.full(2 * D, float(atol))
     atol_vec = np.concatenate([a, [np.inf]])
@@ -393,6 +432,8 @@ def forward_dynamics(
         jacobian_evaluations=int(sol.njev),
         lu_decompositions=int(sol.nlu),
         stiffness_ratio=stiffness,
+        decay_rate=decay,
+        vibration_rate=vibration,
         error=err_q,
         error_qdot=err_qd,
         energy_residual=energy_residual,
