@@ -152,6 +152,23 @@ def test_turning_points_are_events():
     assert r.qdot[k - 1, 0] * r.qdot[k, 0] < 0
 
 
+def test_leaving_the_assembly_ends_the_run_with_a_warning():
+    # couplers AB = BC = 0.55: A and C may be at most 1.1 apart, the cranks thrown
+    # apart pass that limit
+    d = json.loads(FIVE_BAR.read_text())
+    A, C = complex(*d["joints"][1]["at"]), complex(*d["joints"][3]["at"])
+    half = abs(C - A) / 2
+    B = (A + C) / 2 + 1j * (C - A) / abs(C - A) * np.sqrt(0.55**2 - half**2)
+    d["joints"][2]["at"] = [B.real, B.imag]
+    d["elements"] = []
+    r = forward_dynamics(
+        mechanism_from_dict(d), 1.0, frames=11, qdot0=[5.0, -5.0], estimate=False, reactions=False
+    )
+    assert r.stopped == "assembly" and 0 < r.t[-1] < 1.0
+    assert any("leaves its assembly" in w for w in r.warnings)
+    assert np.isfinite(r.q).all() and np.isfinite(r.qddot).all()
+
+
 def bad_file(tmp_path, change):
     d = json.loads(FIVE_BAR.read_text())
     change(d)

@@ -71,9 +71,21 @@ class MotionTerms:
     motion: LinkMotion
 
     def acceleration(self) -> FloatArray:
-        """``q̈ = M⁻¹ (Q − h)`` per frame (frames × D)."""
-        out = np.linalg.solve(self.M, (self.Q - self.h)[..., None])[..., 0]
-        return np.asarray(out, float)
+        """``q̈ = M⁻¹ (Q − h)`` per frame (frames × D); NaN on a frame that does not
+        assemble or whose mass matrix is singular (a dead position of the drivers)."""
+        D = self.M.shape[-1]
+        out = np.full(self.h.shape, np.nan)
+        rhs = self.Q - self.h
+        ok = self.valid & np.isfinite(self.M).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=1)
+        if ok.any():
+            M = self.M[ok]
+            # singular to the precision of M itself: no acceleration is determined
+            cond = np.linalg.cond(M) if D > 1 else np.ones(M.shape[0])
+            good = (cond < 1e14) & (np.abs(M).reshape(M.shape[0], -1).max(axis=1) > 0)
+            idx = np.flatnonzero(ok)[good]
+            if idx.size:
+                out[idx] = np.linalg.solve(self.M[idx], rhs[idx][..., None])[..., 0]
+        return out
 
 
 def _generalised(
