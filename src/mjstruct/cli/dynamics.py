@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.cli.output import driver_list, emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
@@ -207,31 +208,45 @@ def _run_forward(
 ) -> int:
     from mjstruct.dynamics.forward import forward_dynamics
     from mjstruct.dynamics.forward_report import forward_csv, forward_json, forward_report
-    from mjstruct.output_files import replacing
 
     q0 = _numbers(args.q0, "--q0")
     with flag_names(**{**TIME_FLAGS, "qdot0": flag}):
-        r = forward_dynamics(
-            m,
-            args.time,
-            q0=q0,
-            qdot0=speeds,
-            frames=DEFAULT_TIMES if args.frames is None else args.frames,
-            method="auto" if args.solver is None else args.solver,
-            rtol=1e-8 if args.rtol is None else args.rtol,
-            drivers=drivers,
-            **({} if args.max_evaluations is None else {"max_evaluations": args.max_evaluations}),
-        )
+        r = forward_dynamics(m, args.time, q0=q0, qdot0=speeds, **_time_options(args, drivers))
+    return _emit(args, forward_csv(r) if args.csv else "", forward_json, forward_report, r)
+
+
+def _time_options(args: argparse.Namespace, drivers: list[str] | None) -> dict[str, Any]:
+    """The keyword arguments both solvers in time take from the flags."""
+    return {
+        "frames": DEFAULT_TIMES if args.frames is None else args.frames,
+        "method": "auto" if args.solver is None else args.solver,
+        "rtol": 1e-8 if args.rtol is None else args.rtol,
+        "drivers": drivers,
+        **({} if args.max_evaluations is None else {"max_evaluations": args.max_evaluations}),
+    }
+
+
+def _emit(
+    args: argparse.Namespace,
+    csv: str,
+    as_json: Callable[[Any], dict[str, Any]],
+    as_text: Callable[[Any], str],
+    r: Any,
+) -> int:
+    """Write ``csv`` to ``--csv`` (whole or not at all) and print the JSON or the text."""
+    from mjstruct.output_files import replacing
+
     if args.csv:
         try:
+            # whole or not at all, a link followed, the umask's permissions
             with replacing(args.csv) as tmp, open(tmp, "w") as fh:
-                fh.write(forward_csv(r))
+                fh.write(csv)
         except OSError as exc:
             raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None
     if args.json:
-        emit_json(forward_json(r))
+        emit_json(as_json(r))
     else:
-        emit_text(forward_report(r))
+        emit_text(as_text(r))
     return 0
 
 
@@ -243,7 +258,6 @@ def _run_time(
     flag: str,
 ) -> int:
     from mjstruct.dynamics.time import motion_in_time, time_csv, time_json, time_report
-    from mjstruct.output_files import replacing
 
     q0 = _numbers(args.q0, "--q0")
     if q0 is not None and len(q0) != 1:
@@ -252,23 +266,8 @@ def _run_time(
         r = motion_in_time(
             m,
             args.time,
-            frames=DEFAULT_TIMES if args.frames is None else args.frames,
             q0=None if q0 is None else q0[0],
             qdot0=0.0 if speed is None else speed,
-            method="auto" if args.solver is None else args.solver,
-            rtol=1e-8 if args.rtol is None else args.rtol,
-            drivers=drivers,
-            **({} if args.max_evaluations is None else {"max_evaluations": args.max_evaluations}),
+            **_time_options(args, drivers),
         )
-    if args.csv:
-        try:
-            # whole or not at all, a link followed, the umask's permissions
-            with replacing(args.csv) as tmp, open(tmp, "w") as fh:
-                fh.write(time_csv(r))
-        except OSError as exc:
-            raise MechanismError(f"--csv: cannot write {args.csv} ({exc.strerror})") from None
-    if args.json:
-        emit_json(time_json(r))
-    else:
-        emit_text(time_report(r))
-    return 0
+    return _emit(args, time_csv(r) if args.csv else "", time_json, time_report, r)

@@ -38,13 +38,12 @@ mjstruct.errors.MechanismError: elements[0].rate: missing (a damper needs its ra
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.dynamics.expressions import parse_expression
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_number
 from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
@@ -116,11 +115,7 @@ class Element:
 
 
 def _number(value: Any, where: str, minimum: float | None = None, what: str = "") -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise MechanismError(f"{where}: must be a number")
-    x = float(value)
-    if not math.isfinite(x):
-        raise MechanismError(f"{where}: must be finite")
+    x = expect_number(value, where)
     if minimum is not None and x < minimum:
         raise MechanismError(f"{where}: must be >= {minimum:g}{what}, got {x:g}")
     return x

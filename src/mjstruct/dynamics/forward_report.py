@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from mjstruct.dynamics.forward import ForwardMotion
-from mjstruct.dynamics.time import EXPLICIT
+from mjstruct.dynamics.time import EXPLICIT, solver_account
 from mjstruct.output_numbers import json_list, json_number
 from mjstruct.output_numbers import text_number as _fmt
 
@@ -43,20 +43,7 @@ def forward_json(r: ForwardMotion) -> dict[str, Any]:
         "kinetic": json_list(r.kinetic),
         "potential": json_list(r.potential),
         "work": json_list(r.work),
-        "parameters": {k: json_number(v) for k, v in r.parameters.items()},
-        "solver": r.solver,
-        "steps": r.steps,
-        "evaluations": {
-            "rhs": r.rhs_evaluations,
-            "jacobian": r.jacobian_evaluations,
-            "lu": r.lu_decompositions,
-        },
-        "stiffness_ratio": json_number(r.stiffness_ratio),
-        "error": {
-            "q": json_number(r.error),
-            "qdot": json_number(r.error_qdot),
-            "energy": json_number(r.energy_residual),
-        },
+        **solver_account(r),
         "stopped": r.stopped,
         "events": [{"t": json_number(t), "kind": k, "driver": d} for t, k, d in r.events],
     }

@@ -562,16 +562,12 @@ def _stiffness(eq: ReducedEquation, q0: float, qdot0: float, t_end: float) -> fl
     return float(np.nanmax(np.abs(b))) * t_end
 
 
-def time_json(r: TimeMotion) -> dict[str, Any]:
-    """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
+def solver_account(r: Any) -> dict[str, Any]:
+    """The JSON keys of a run in time that say what the solver did and how accurate it
+    is (``parameters``, ``solver``, ``steps``, ``evaluations``, ``stiffness_ratio``,
+    ``error``), for :class:`TimeMotion` and for
+    :class:`~mjstruct.dynamics.forward.ForwardMotion`."""
     return {
-        "t": json_list(r.t),
-        "q": json_list(r.q),
-        "qdot": json_list(r.qdot),
-        "qddot": json_list(r.qddot),
-        "V": json_list(r.V),
-        "Q": json_list(r.Q),
-        "work": json_list(r.work),
         "parameters": {k: json_number(v) for k, v in r.parameters.items()},
         "solver": r.solver,
         "steps": r.steps,
@@ -586,6 +582,20 @@ def time_json(r: TimeMotion) -> dict[str, Any]:
             "qdot": json_number(r.error_qdot),
             "energy": json_number(r.energy_residual),
         },
+    }
+
+
+def time_json(r: TimeMotion) -> dict[str, Any]:
+    """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
+    return {
+        "t": json_list(r.t),
+        "q": json_list(r.q),
+        "qdot": json_list(r.qdot),
+        "qddot": json_list(r.qddot),
+        "V": json_list(r.V),
+        "Q": json_list(r.Q),
+        "work": json_list(r.work),
+        **solver_account(r),
         "coefficients": r.coefficients,
         "table_error": json_number(r.table_error),
         "table_points": r.table_points,
