@@ -15,6 +15,7 @@ import pytest
 
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
+from mjstruct.dynamics.analysis import dynamic_analysis
 from mjstruct.dynamics.data import read_dynamics
 from mjstruct.dynamics.element_loads import element_loads
 from mjstruct.dynamics.equation import coefficients
@@ -23,6 +24,7 @@ from mjstruct.dynamics.inputs import read_inputs
 from mjstruct.dynamics.lagrange import motion_terms
 from mjstruct.dynamics.matrices import link_motion
 from mjstruct.dynamics.motion import moving_links
+from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -256,3 +258,40 @@ def test_the_command_runs_several_drivers_in_time(capsys, tmp_path):
 def test_the_elements_do_not_change_a_file_without_them():
     m = read_mechanism(SEED)
     assert read_dynamics(m).elements == ()
+
+
+def test_inverse_dynamics_of_several_drivers_matches_lagrange():
+    # at constant speed q̈ = 0: the actuators' loads are h − Q (elements included)
+    m = read_mechanism(FIVE_BAR)
+    s = dynamic_analysis(m, speed=1.5, frames=6)
+    model, data = read_inputs(m)
+    t = motion_terms(model, data, data.parameter_values(), s.q, np.full(s.q.shape, 1.5))
+    tau = np.stack([s.driving[d] for d in model.drivers], axis=1)
+    assert np.allclose(tau, t.h - t.Q, rtol=1e-9, atol=1e-9 * np.abs(t.Q).max())
+    # the springs matter: without them the loads differ
+    d = mechanism_to_dict(m)
+    d["elements"] = []
+    bare = dynamic_analysis(mechanism_from_dict(d), speed=1.5, frames=6)
+    assert np.abs(bare.driving["O1"] - s.driving["O1"]).max() > 0.1
+
+
+def test_one_driver_with_an_element_moves_by_lagrange(capsys):
+    d = mechanism_to_dict(read_mechanism(SEED))
+    d["parameters"] = {"M": 10.0, "p": 3.0}
+    d["elements"] = [
+        {
+            "type": "spring",
+            "stiffness": 50.0,
+            "between": [{"joint": "B"}, {"link": "0", "at": [0.0, 0.0]}],
+        }
+    ]
+    m = mechanism_from_dict(d)
+    r = forward_dynamics(m, 0.2, frames=3, estimate=False, reactions=False)
+    assert r.drivers == ("O1",) and r.energy_residual < 1e-6
+    # free motion integrated in q does not take elements: it names the way that does
+    with pytest.raises(MechanismError, match=r"^qdot0: .*force elements.*--time"):
+        dynamic_analysis(m, qdot0=5.0, frames=12)
+    # nor does steady motion fix an unknown with them
+    d["parameters"] = {"M": 10.0, "p": None}
+    with pytest.raises(MechanismError, match=r"^parameters\.p: steady motion"):
+        dynamic_analysis(mechanism_from_dict(d), speed=1.0, frames=12)
