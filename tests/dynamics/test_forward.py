@@ -144,14 +144,23 @@ def test_a_soft_chain_is_not_stiff():
 
 
 def test_turning_points_are_events():
+    seen = []
     r = forward_dynamics(
-        read_mechanism(FIVE_BAR), 0.2, frames=5, qdot0=[1.0, -0.5], estimate=False, reactions=False
+        read_mechanism(FIVE_BAR),
+        0.2,
+        frames=5,
+        qdot0=[1.0, -0.5],
+        estimate=False,
+        reactions=False,
+        progress=lambda d, n: seen.append((d, n)),
     )
     turns = {d: t for t, kind, d in r.events if kind == "turn"}
     assert set(turns) == {"O1", "O2"}
     # at the event the driver's speed is zero: it changes sign between the frames around it
     k = int(np.searchsorted(r.t, turns["O1"]))
     assert r.qdot[k - 1, 0] * r.qdot[k, 0] < 0
+    # the progress of the run in percent of t_end, increasing to 100
+    assert seen[-1] == (100, 100) and [d for d, _ in seen] == sorted({d for d, _ in seen})
 
 
 def test_leaving_the_assembly_ends_the_run_with_a_warning():

@@ -208,10 +208,14 @@ def _run_forward(
 ) -> int:
     from mjstruct.dynamics.forward import forward_dynamics
     from mjstruct.dynamics.forward_report import forward_csv, forward_json, forward_report
+    from mjstruct.synthesis.parallel import ProgressBar
 
     q0 = _numbers(args.q0, "--q0")
+    bar = ProgressBar.for_cli("motion in time, % of T", json_output=args.json)
     with flag_names(**{**TIME_FLAGS, "qdot0": flag}):
-        r = forward_dynamics(m, args.time, q0=q0, qdot0=speeds, **_time_options(args, drivers))
+        r = forward_dynamics(
+            m, args.time, q0=q0, qdot0=speeds, progress=bar, **_time_options(args, drivers)
+        )
     return _emit(args, forward_csv(r) if args.csv else "", forward_json, forward_report, r)
 
 

@@ -39,7 +39,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -141,10 +141,15 @@ class _System:
         data: DynamicsData,
         params: Mapping[str, float],
         budget: int,
+        progress: Callable[[int, int], None] | None = None,
+        t_end: float = 1.0,
     ) -> None:
         self.model, self.data, self.params = model, data, params
         self.D = len(model.drivers)
         self.left = self.total = budget
+        self.progress, self.t_end = progress, t_end
+        #: the part of the progress scale (percent) this run covers, and where it is
+        self.scale, self.shown = (0, 100), -1
 
     def terms(self, y: FloatArray) -> tuple[FloatArray, float, bool]:
         """q̈, the power of the working forces, and whether the state has a motion
@@ -162,6 +167,12 @@ class _System:
         self.left -= 1
         if self.left < 0:
             raise _Spent(t)
+        if self.progress is not None:
+            lo, hi = self.scale
+            done = lo + int((hi - lo) * min(t / self.t_end, 1.0))
+            if done > self.shown:
+                self.shown = done
+                self.progress(done, 100)
         D = self.D
         qdd, power, _ = self.terms(y)
         return np.concatenate([y[D : 2 * D], qdd, [power]])
@@ -294,6 +305,7 @@ def forward_dynamics(
     drivers: Iterable[str] | None = None,
     max_evaluations: int = MAX_EVALUATIONS,
     reactions: bool = True,
+    progress: Callable[[int, int], None] | None = None,
 ) -> ForwardMotion:
     """Integrate ``M(q) q̈ + h(q, q̇) = Q(q, q̇)`` from ``(q0, qdot0)`` over ``[0, t_end]``.
 
@@ -313,6 +325,8 @@ def forward_dynamics(
     drivers : the generalised coordinates (default: the file's drivers).
     max_evaluations : right-hand-side evaluations the runs may take.
     reactions : also solve the link equations at the output times (:attr:`ForwardMotion.loads`).
+    progress : called as ``progress(done, 100)`` while the runs go on (the percentage of
+        t_end reached; the error estimate's run is the second half).
 
     Raises
     ------
@@ -347,7 +361,8 @@ def forward_dynamics(
     speed = _vector(qdot0, D, "qdot0", np.zeros(D))
     for v in speed:
         data.check_speed("qdot0", float(v))
-    system = _System(model, data, params, max_evaluations)
+    system = _System(model, data, params, max_evaluations, progress, float(t_end))
+    system.scale = (0, 50 if estimate else 100)
     y0 = np.concatenate([start, speed, [0.0]])
     first = motion_terms(model, data, params, start[None], speed[None])
     if not first.valid[0]:
@@ -403,6 +418,7 @@ def forward_dynamics(
     if estimate:
         fine = max(rtol / REFERENCE_FACTOR, TIGHTEST)
         try:
+            system.scale = (50, 100)
             ref = _solve(system, float(t_end), y0, chosen, fine, atol_vec / REFERENCE_FACTOR)
             inside = times <= min(t_stop, float(ref.t[-1]))
             Yr = ref.sol(times[inside])
@@ -413,6 +429,8 @@ def forward_dynamics(
             warnings.append(f"no error estimate: the reference run failed ({exc})")
     if not (np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()):
         raise NumericalError("the integration produced non-finite values")
+    if progress is not None and system.shown < 100:
+        progress(100, 100)  # a run that ended early (assembly) still completes its bar
     loads = None
     if reactions and model.mechanism.joints:
         try:
