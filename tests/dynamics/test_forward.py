@@ -212,7 +212,7 @@ def bad_file(tmp_path, change):
             lambda d: d["elements"].append(
                 {"type": "elastic_slide", "joint": "B", "stiffness": 1}
             ),
-            "elements[3].joint: a elastic_slide needs a prismatic joint",
+            "elements[3].joint: an elastic slide needs a prismatic joint",
         ),
         (lambda d: d["elements"].append({"type": "spring"}), "elements[3].stiffness: missing"),
         (lambda d: d["elements"].append({"type": "rope"}), "elements[3].type: must be one of"),

@@ -121,6 +121,12 @@ def _number(value: Any, where: str, minimum: float | None = None, what: str = ""
     return x
 
 
+def _a(kind: str) -> str:
+    """``kind`` in words with its article: ``an elastic slide``."""
+    words = kind.replace("_", " ")
+    return ("an " if words[0] in "aeiou" else "a ") + words
+
+
 def _id(value: Any, where: str) -> str:
     if isinstance(value, bool) or not isinstance(value, (str, int)):
         raise MechanismError(f"{where}: must be an id")
@@ -220,18 +226,16 @@ def _element(
         )
     unknown = set(spec) - {"type", *ELEMENT_TYPES[kind]}
     if unknown:
-        raise MechanismError(f"{where}.{sorted(unknown)[0]}: unknown key for a {kind}")
+        raise MechanismError(f"{where}.{sorted(unknown)[0]}: unknown key for {_a(kind)}")
     stiffness = rate = 0.0
     free: float | None = 0.0
     if "stiffness" in ELEMENT_TYPES[kind]:
         if "stiffness" not in spec:
-            raise MechanismError(f"{where}.stiffness: missing (a {kind} needs its stiffness)")
+            raise MechanismError(f"{where}.stiffness: missing ({_a(kind)} needs its stiffness)")
         stiffness = _number(spec["stiffness"], f"{where}.stiffness", 0.0, " (a stiffness)")
     if "rate" in ELEMENT_TYPES[kind]:
         if "rate" not in spec:
-            raise MechanismError(
-                f"{where}.rate: missing (a {kind.replace('_', ' ')} needs its rate)"
-            )
+            raise MechanismError(f"{where}.rate: missing ({_a(kind)} needs its rate)")
         rate = _number(spec["rate"], f"{where}.rate", 0.0, " (a damping rate)")
     if kind in LINE_TYPES:
         between = spec.get("between")
@@ -263,9 +267,13 @@ def _element(
     joint_kind = m.joint(jid).kind
     slide = kind in ("elastic_slide", "slide_damper")
     if kind.startswith("torsion") and joint_kind != "R":
-        raise MechanismError(f"{where}.joint: a {kind} needs a revolute joint, {jid} is prismatic")
+        raise MechanismError(
+            f"{where}.joint: {_a(kind)} needs a revolute joint, {jid} is prismatic"
+        )
     if slide and joint_kind != "P":
-        raise MechanismError(f"{where}.joint: a {kind} needs a prismatic joint, {jid} is revolute")
+        raise MechanismError(
+            f"{where}.joint: {_a(kind)} needs a prismatic joint, {jid} is revolute"
+        )
     law = None
     expr = None
     arguments: tuple[str, ...] = ()
