@@ -17,8 +17,9 @@ equations ``M(q) q̈ + h = Q`` with the force elements):
    of DOP853 and Radau side by side, the stiffness ratio ``ρ · t_end`` and what
    ``auto`` chooses (:func:`~mjstruct.dynamics.forward.auto_method`).
 
-Run: ``python benchmarks/forward_dynamics_energy.py`` (about 3 minutes on a quiet
-machine) or ``--quick`` (two tolerances, two stiffnesses).
+Run: ``python benchmarks/forward_dynamics_energy.py [--plot
+docs/img/dyn-forward-energy.png]`` (about 3 minutes on a quiet machine) or ``--quick``
+(two tolerances, two stiffnesses).
 """
 
 from __future__ import annotations
@@ -47,7 +48,8 @@ def cpu(fn: Any) -> tuple[float, Any]:
     return time.process_time() - t0, out
 
 
-def energy_table(tolerances: tuple[float, ...]) -> None:
+def energy_table(tolerances: tuple[float, ...]) -> dict[str, list[tuple[float, float]]]:
+    """Print the table; per method the (CPU s, energy error) points."""
     m = read_mechanism(example_path("five-bar-springs-dynamics"))
     kw: dict[str, Any] = {"frames": 201, "estimate": False, "reactions": False}
     ref = forward_dynamics(m, 1.0, rtol=1e-12, method="DOP853", **kw)  # also the warm-up
@@ -55,6 +57,7 @@ def energy_table(tolerances: tuple[float, ...]) -> None:
     print(
         f"{'rtol':>8} {'method':>7} {'CPU s':>7} {'rhs':>6} {'energy error':>13} {'q error':>10}"
     )
+    points: dict[str, list[tuple[float, float]]] = {"DOP853": [], "Radau": []}
     for rtol in tolerances:
         for method in ("DOP853", "Radau"):
             t, r = cpu(lambda: forward_dynamics(m, 1.0, rtol=rtol, method=method, **kw))  # noqa: B023
@@ -65,6 +68,27 @@ def energy_table(tolerances: tuple[float, ...]) -> None:
                 f"{rtol:8.0e} {method:>7} {t:7.2f} {r.rhs_evaluations:6d} {err_E:13.2e} "
                 f"{err_q:10.2e}"
             )
+            points[method].append((t, err_E))
+    return points
+
+
+def plot(points: dict[str, list[tuple[float, float]]], path: str) -> None:
+    """The energy error against CPU time, one line per method."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 3.6))
+    for method, pts in points.items():
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=method)
+    ax.set_xlabel("CPU time of the call, s")
+    ax.set_ylabel("largest relative energy change")
+    ax.set_title("five-bar with springs, 1 s of free motion")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
 
 def leg(C: float, rate: float) -> Any:
@@ -117,8 +141,11 @@ def stiff_table(stiffnesses: tuple[float, ...]) -> None:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="two tolerances, two stiffnesses")
+    p.add_argument("--plot", metavar="PNG", help="draw the energy error against run time")
     args = p.parse_args()
-    energy_table((1e-4, 1e-8) if args.quick else TOLERANCES)
+    points = energy_table((1e-4, 1e-8) if args.quick else TOLERANCES)
+    if args.plot:
+        plot(points, args.plot)
     stiff_table((1e4, 1e6) if args.quick else STIFFNESSES)
 
 
