@@ -120,7 +120,7 @@ def link_assortments(
 
     >>> link_assortments(3, 1, 2)
     ((7, 1, 1), (6, 3, 0))
-    >>> link_assortments(3, 1, 2, fractionated=True)  # [8001]: seed 002's swivel bucket
+    >>> link_assortments(3, 1, 2, fractionated=True)  # [8001]: a swivel bucket drive
     ((8, 0, 0, 1), (7, 1, 1), (6, 3, 0))
     """
     n = link_count(F, K)
