@@ -31,9 +31,7 @@ def _name_singular_frames(r: Any, frames: Any) -> list[str | None]:
     return name_flagged_frames(r, frames)
 
 
-importlib.import_module("mjstruct.kinematics.singular_seam").set_singular_namer(
-    _name_singular_frames
-)
+importlib.import_module("mjstruct.singular_seam").set_singular_namer(_name_singular_frames)
 
 _EXPORTS: dict[str, str] = {
     "Mechanism": "mjstruct.mechanism",

@@ -35,8 +35,8 @@ from mjstruct.kinematics.closure import closure_jacobian
 from mjstruct.kinematics.jacobian import check_jacobian, one_blas_thread
 from mjstruct.kinematics.model import Motion
 from mjstruct.kinematics.result import KinematicsResult
-from mjstruct.kinematics.singular_seam import singular_namer
 from mjstruct.kinematics.tolerances import NEAR_SINGULAR
+from mjstruct.singular_seam import singular_namer
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -6,7 +6,8 @@ singular-positions unit's answer, and that unit sits above the kinematics.  So t
 check asks :func:`singular_namer`, and the package installs the singular unit's
 :func:`~mjstruct.singular.analysis.name_flagged_frames` (imported at the first flagged
 frame) with :func:`set_singular_namer`.  Nothing heavy is imported here: the package
-installs the hook on every import.
+installs the hook on every import, and it lives below every unit so that the
+structural commands do not import the kinematics package for it.
 
 Examples
 --------
@@ -19,13 +20,11 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from mjstruct.kinematics.result import KinematicsResult
-
-#: names the kind at each flagged frame of a result (None: not identified)
-SingularNamer = Callable[["KinematicsResult", Any], list["str | None"]]
+#: names the kind at each flagged frame (None: not identified) of a kinematics result
+#: (typed loosely: this seam sits below the kinematics and knows none of its classes)
+SingularNamer = Callable[[Any, Any], list["str | None"]]
 
 _namer: SingularNamer | None = None
 
