@@ -179,8 +179,9 @@ class SingularPosition:
         }
         if self.zone is not None:
             d["zone"] = [z.to_dict() for z in self.zone]
-        if self.classification is not None:
-            d["classification"] = self.classification.to_dict()
+        d["classification"] = (
+            None if self.classification is None else self.classification.to_dict()
+        )
         return d
 
 
@@ -215,8 +216,9 @@ class FoldArc:
             "joints": list(self.joints),
             "output_angle": json_number(self.output_angle),
         }
-        if self.classification is not None:
-            d["classification"] = self.classification.to_dict()
+        d["classification"] = (
+            None if self.classification is None else self.classification.to_dict()
+        )
         return d
 
 
@@ -443,6 +445,7 @@ def _analyse(
 
     found: list[tuple[str, FloatArray]] = [("change_point", b.x) for b in bifs]
     fold_arcs: list[FoldArc] = []
+    unclassified: set[int] = set()
     q_spans: list[tuple[float, float, bool]] = []
     for br in branches:
         qs, gq = eq.inputs(br.x)
@@ -454,7 +457,10 @@ def _analyse(
         if fold_in or fold_out:
             same = _coinciding(eq, br)
             warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0])), same))
-            fold_arcs += _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
+            arcs = _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
+            if fold_in and fold_out:  # neither moves: no type of the classification
+                unclassified.update(id(a) for a in arcs)
+            fold_arcs += arcs
         for kind, comp, fold, grad in (
             ("input_limit", dq, fold_in, eq.inputs),
             ("output_extreme", do, fold_out, eq.outputs),
@@ -525,7 +531,9 @@ def _analyse(
     )
     rng = _input_range(q_spans, q_ref, revolute)
     fold_arcs = [
-        dataclasses.replace(
+        a
+        if id(a) in unclassified
+        else dataclasses.replace(
             a,
             classification=classify_fold_arc(
                 a.kind,
