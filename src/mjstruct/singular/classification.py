@@ -86,7 +86,7 @@ class SingularType:
 #: the paper's table, by type
 TYPES: dict[str, SingularType] = {
     "I": SingularType(
-        "A", 0, 0, "dead position of the output", "the pressure angle exceeds its limit"
+        "A", 0, 0, "dead position of the output", "the angle of motion exceeds its limit"
     ),
     "II": SingularType(
         "B",
