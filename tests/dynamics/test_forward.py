@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -304,3 +305,27 @@ def test_one_driver_with_an_element_moves_by_lagrange(capsys):
     d["parameters"] = {"M": 10.0, "p": None}
     with pytest.raises(MechanismError, match=r"^parameters\.p: steady motion"):
         dynamic_analysis(mechanism_from_dict(d), speed=1.0, frames=12)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda d: d["elements"][0].update(stiffness=1e308), "elements[0].stiffness: 1e+308"),
+        (
+            lambda d: d["elements"].append(
+                {
+                    "type": "damper",
+                    "rate": 1.0,
+                    "between": [{"link": "2", "at": [1e9, 0]}, {"joint": "O2"}],
+                }
+            ),
+            "elements[3].between[0]: ",
+        ),
+    ],
+)
+def test_elements_beyond_a_double_are_refused_naming_the_field(tmp_path, capsys, change, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning leaks
+        status = main(["dynamics", str(bad_file(tmp_path, change)), "--time", "0.05"])
+    out, err = capsys.readouterr()
+    assert (status, out) == (2, "") and err.startswith(f"mjstruct dynamics: {message}"), err

@@ -488,7 +488,7 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
         _read_load(spec, k, m, inertia, list(parameters), reach)
         for k, spec in enumerate(raw_loads)
     )
-    elements = read_elements(m, centres, list(parameters))
+    elements = read_elements(m, centres, list(parameters), MAGNITUDE_LIMIT, MAX_LEVER)
     used = {s.name for ld in loads for e in ld.exprs for s in e.free_symbols}
     used |= {a for el in elements for a in el.arguments}
     if unknowns and unknowns[0] not in used:

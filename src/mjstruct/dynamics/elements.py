@@ -38,12 +38,14 @@ mjstruct.errors.MechanismError: elements[0].rate: missing (a damper needs its ra
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.dynamics.expressions import parse_expression
 from mjstruct.errors import MechanismError, expect_number
+from mjstruct.kinematics.geometry import diameter
 from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
@@ -188,12 +190,18 @@ def _joint_links(spec: Mapping[str, Any], where: str, m: Mechanism) -> tuple[str
 
 
 def read_elements(
-    m: Mechanism, centres: Mapping[str, complex], parameters: Collection[str]
+    m: Mechanism,
+    centres: Mapping[str, complex],
+    parameters: Collection[str],
+    limit: float = 1e250,
+    max_lever: float = 1e6,
 ) -> tuple[Element, ...]:
     """Read and check the ``elements`` key of ``m`` (see the module docstring).
 
     ``centres``: the joint centres of the reference configuration; ``parameters``: the
-    names a motor law may use.
+    names a motor law may use; ``limit``: the largest energy or load a stiffness or a
+    rate may give over the mechanism's reach (the dynamics data's magnitude limit);
+    ``max_lever``: how many mechanism sizes a point may lie from its link's joints.
 
     Raises
     ------
@@ -201,12 +209,49 @@ def read_elements(
         naming the field: an unknown type or key, a negative stiffness or rate, a
         damper without a rate, a spring between two points of one link (their distance
         never changes) or between two coincident points, a torsion element at a
-        prismatic joint, a slide element at a revolute one, a law that does not parse.
+        prismatic joint, a slide element at a revolute one, a law that does not parse,
+        a point too far from its link or a stiffness or rate beyond ``limit``.
     """
     raw = m.extra.get("elements", [])
     if not isinstance(raw, list):
         raise MechanismError("elements: must be a list")
-    return tuple(_element(spec, k, m, centres, parameters) for k, spec in enumerate(raw))
+    out = tuple(_element(spec, k, m, centres, parameters) for k, spec in enumerate(raw))
+    size = diameter(list(centres.values())) or 1.0
+    for el in out:
+        _check_reach(el, m, centres, size, limit, max_lever)
+    return out
+
+
+def _check_reach(
+    el: Element,
+    m: Mechanism,
+    centres: Mapping[str, complex],
+    size: float,
+    limit: float,
+    max_lever: float,
+) -> None:
+    """Refuse an element whose point lies beyond ``max_lever`` sizes from its link's
+    joints, or whose stiffness or rate times its reach squared passes ``limit`` (its
+    energy, loads and the joint loads would overflow a double)."""
+    reach = size
+    for i, p in enumerate(el.points):
+        arm = max(abs(p.at - centres[j]) for j in m.link_joints[p.link])
+        if not arm <= max_lever * size:
+            raise MechanismError(
+                f"{el.where}.between[{i}]: {arm / size:.3g} × the mechanism's size from the "
+                f"joints of link {p.link} (at most {max_lever:.0e})"
+            )
+        reach += arm
+    if el.free is not None and el.kind != "torsion_spring":
+        reach += abs(el.free)
+    if el.kind.startswith("torsion"):
+        reach = 2 * math.pi  # a turn of the joint
+    for name, value in (("stiffness", el.stiffness), ("rate", el.rate)):
+        if not value * reach * reach <= limit:
+            raise MechanismError(
+                f"{el.where}.{name}: {value:g} × its reach {reach:.3g} squared passes "
+                f"{limit:.0e} (its energy and loads would overflow a double)"
+            )
 
 
 def _element(

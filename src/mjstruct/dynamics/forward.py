@@ -192,9 +192,10 @@ class _System:
             down[k] -= h
             a, _, ok_a = self.terms(up)
             b, _, ok_b = self.terms(down)
-            if not (ok_a and ok_b):
+            with np.errstate(all="ignore"):
+                J[D:, k] = (a - b) / (2 * h)
+            if not (ok_a and ok_b and np.isfinite(J[D:, k]).all()):
                 return 0.0, 0.0
-            J[D:, k] = (a - b) / (2 * h)
         lam = np.linalg.eigvals(J)
         real = np.abs(lam.real) >= np.abs(lam.imag)
         return (
