@@ -54,8 +54,8 @@ from mjstruct.dynamics.result import DynamicsResult
 from mjstruct.dynamics.time import (
     MAX_EVALUATIONS,
     REFERENCE_FACTOR,
-    SOLVERS,
     TIGHTEST,
+    check_run,
 )
 from mjstruct.errors import MechanismError, NumericalError, expect_int
 from mjstruct.kinematics.model import KinematicModel
@@ -336,18 +336,7 @@ def forward_dynamics(
     NumericalError
         the solver fails at the start.
     """
-    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.floating)):
-        raise MechanismError("t_end: must be a number")
-    if not np.isfinite(t_end) or t_end <= 0:
-        raise MechanismError(f"t_end: must be a finite number > 0, got {t_end}")
-    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
-        raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
-    if method not in SOLVERS:
-        raise MechanismError(f"method: unknown solver {method!r} (one of {', '.join(SOLVERS)})")
-    if not (np.isfinite(rtol) and TIGHTEST <= rtol < 1):
-        raise MechanismError(f"rtol: must be in [{TIGHTEST:g}, 1), got {rtol}")
-    if atol is not None and not (np.isfinite(atol) and atol > 0):
-        raise MechanismError(f"atol: must be a finite number > 0, got {atol}")
+    check_run(t_end, frames, method, rtol, atol)
     max_evaluations = expect_int(max_evaluations, "max_evaluations", 1)
     model, data = read_inputs(mechanism, drivers, parameters=parameters)
     D = len(model.drivers)
