@@ -105,6 +105,8 @@ class FullModel:
     def _build(self, elements: list[dict[str, Any]]) -> None:
         x, v = sp.Matrix(self.x), sp.Matrix(self.v)
         cons: list[sp.Expr] = []
+        #: (joint, link, row): rows row, row + 1 hold the pin's multipliers on that link
+        self.pins: list[tuple[str, str, int]] = []
         for jid, j in self.joint.items():
             ls = [str(link) for link in j["links"]]
             c = self.centre[jid]
@@ -112,6 +114,7 @@ class FullModel:
                 p0 = self.point(ls[0], c)
                 for other in ls[1:]:
                     p = self.point(other, c)
+                    self.pins.append((jid, other, len(cons)))
                     cons += [p[0] - p0[0], p[1] - p0[1]]
             else:
                 a, b = ls
@@ -243,6 +246,10 @@ class FullModel:
         return np.concatenate([x0, v0])
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
+        return self.solve(y)[0]
+
+    def solve(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The state's rate and the multipliers λ (M a + Φ_xᵀ λ = F)."""
         n = len(self.x)
         xx, vv = y[:n], y[n:]
         J = np.asarray(self.f_J(xx), float)
@@ -256,12 +263,14 @@ class FullModel:
         K[:n, n:] = J.T
         K[n:, :n] = J
         sol = np.linalg.solve(K, np.concatenate([F, gamma]))
-        return np.concatenate([vv, sol[:n]])
+        return np.concatenate([vv, sol[:n]]), sol[n:]
 
     def run(
         self, qdot0: np.ndarray, times: np.ndarray, rtol: float = 1e-11
     ) -> dict[str, np.ndarray]:
-        """Driver coordinates (from the reference) and rates at ``times``, and the energy."""
+        """Driver coordinates (from the reference) and rates at ``times``, the energy, and
+        the load of each pin on each of its links but the first (times × [x, y]): the
+        constraint force −Φ_xᵀ λ of the rows p_link − p_first = 0 is −λ on that link."""
         y0 = self.initial(np.asarray(qdot0, float))
         sol = solve_ivp(
             self.rhs, (0.0, times[-1]), y0, method="DOP853", rtol=rtol, atol=rtol, t_eval=times
@@ -271,4 +280,6 @@ class FullModel:
         qd = np.array([[self._rates[d](y) for d in self.drivers] for y in sol.y.T])
         T = np.array([0.5 * np.sum(self.Mdiag * y[n:] ** 2) for y in sol.y.T])
         U = np.array([float(self.f_U(y[:n])) for y in sol.y.T])
-        return {"q": q, "qdot": qd, "energy": T + U}
+        lam = np.array([self.solve(y)[1] for y in sol.y.T])
+        pins = {(jid, link): -lam[:, [r, r + 1]] for jid, link, r in self.pins}
+        return {"q": q, "qdot": qd, "energy": T + U, "pins": pins}

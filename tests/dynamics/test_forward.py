@@ -1,7 +1,8 @@
 """Lagrange's equations for any number of drivers, force elements, forward dynamics in time.
 
 The oracle is an independent model in full coordinates with Lagrange multipliers
-(``full_coordinates.py``): it shares nothing with mjstruct's dynamics but the file.
+(``full_coordinates.py``): it shares nothing with mjstruct's dynamics but the file; its
+multipliers are the pins' loads, against which the joint reactions are checked.
 """
 
 from __future__ import annotations
@@ -51,6 +52,11 @@ def test_the_motion_agrees_with_a_full_coordinate_model(path, qdot0, t_end):
     assert np.abs(r.qdot - ref["qdot"]).max() < 1e-7
     moved = np.abs(r.q - r.q[0]).max()
     assert moved > 0.05  # it moved: the agreement is not that of two resting models
+    # the joint reactions along the motion are the oracle's Lagrange multipliers
+    for (jid, link), pin in ref["pins"].items():
+        comps = r.loads.reactions[jid][link]
+        mine = np.stack([comps["x"], comps["y"]], axis=1)
+        assert np.abs(mine - pin).max() < 1e-7 * np.abs(pin).max(), (jid, link)
 
 
 def test_energy_is_conserved_without_dampers_to_the_reported_accuracy():
