@@ -182,6 +182,7 @@ IMPLEMENTED = [
     "Freudenstein 1955",
     "Burmester 1888",
     "Kavetsky & Geresh",
+    "Tsai & Freudenstein",
 ]
 
 
