@@ -219,3 +219,16 @@ def test_analyze_reports_the_gears(capsys):
     assert {p["carrier"] for p in g["pairs"]} == {"H"}
     assert main(["analyze", str(example_path("geared-five-bar"))]) == 0
     assert "F = 3(n − 1) − 2·p5 − p4 = 1" in capsys.readouterr().out
+
+
+def test_assur_lookup_and_iso_of_geared_files(capsys):
+    five = str(example_path("geared-five-bar"))
+    assert main(["assur", five, "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)["groups"]
+    assert [sorted(g["links"]) for g in groups] == [["2", "mesh:g12"], ["3", "4"]]
+    assert main(["lookup", five, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["name"] == "Stephenson six-bar"
+    simple = str(example_path("planetary-simple"))
+    assert main(["iso", simple, simple, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["isomorphic"] and out["canonical_a"].startswith("gc4.4-")
