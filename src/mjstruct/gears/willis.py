@@ -138,3 +138,50 @@ def _solve(a: list[list[Fraction]], b: list[Fraction]) -> tuple[list[Fraction] |
     for i, col in enumerate(pivots):
         x[col] = rows[i][-1]
     return x, [c for c in range(ncols) if c not in pivots]
+
+
+def driven_rotations(m: Mechanism, drivers: Sequence[str]) -> dict[str, tuple[Fraction, ...]]:
+    """The links whose rotation the drivers fix through Willis' equations, each with
+    its rotation per unit of each driver coordinate (exact; the frame's are zeros).
+
+    Rows: each gear pair's Willis equation, each revolute driver (its second link's
+    rotation less its first's is the coordinate), each prismatic joint (its links turn
+    together). A link left free by these rows (a gear on a linkage link) is not listed.
+
+    >>> from mjstruct.catalog_files import example_path
+    >>> from mjstruct.io import read_mechanism
+    >>> r = driven_rotations(read_mechanism(example_path("planetary-simple")), ["O"])
+    >>> {x: str(c[0]) for x, c in r.items()}
+    {'0': '0', '1': '1', '3': '1/6', '2': '-1/4'}
+    """
+    import sympy
+
+    rows = willis_rows(m)
+    rhs: list[list[Fraction]] = [[Fraction(0)] * len(drivers) for _ in rows]
+    for j in m.joints:
+        driven = j.id in drivers and j.kind == "R"
+        for other in j.links[1:] if j.kind == "P" or driven else ():
+            rows.append({other: Fraction(1), j.links[0]: Fraction(-1)})
+            rhs.append([Fraction(int(driven and j.id == d)) for d in drivers])
+            if driven:
+                break  # the coordinate is the second link's rotation
+    unknown = [x for x in m.links if x != m.frame]
+    a = [[r.get(x, Fraction(0)) for x in unknown] for r in rows]
+    null = (
+        sympy.Matrix(a).nullspace()
+        if a
+        else [sympy.eye(len(unknown))[:, k] for k in range(len(unknown))]
+    )
+    loose = {unknown[i] for v in null for i in range(len(unknown)) if v[i] != 0}
+    out: dict[str, list[Fraction]] = {x: [] for x in unknown if x not in loose}
+    for d in range(len(drivers)):
+        solution, _ = _solve(a, [r[d] for r in rhs])
+        if solution is None:
+            raise MechanismError("drivers: the drivers contradict the gear train's ratios")
+        for x, w in zip(unknown, solution, strict=True):
+            if x in out:
+                out[x].append(w)
+    result = {x: tuple(c) for x, c in out.items()}
+    if m.frame is not None:
+        result = {m.frame: (Fraction(0),) * len(drivers), **result}
+    return result

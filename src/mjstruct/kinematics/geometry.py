@@ -246,11 +246,6 @@ def geometry_of(m: Mechanism, drivers: tuple[str, ...]) -> Geometry:
     """
     if m.frame is None:
         raise MechanismError("frame: kinematics needs a frame link")
-    if m.extra.get("gears"):
-        raise MechanismError(
-            "gears: the kinematics does not move gear pairs yet (`mjstruct analyze` reports "
-            "their structure)"
-        )
     centres: dict[str, complex] = {}
     axes: dict[str, complex] = {}
     for k, j in enumerate(m.joints):
