@@ -131,6 +131,7 @@ SUBPACKAGES = (
     "gears",
     "kinematics",
     "plot",
+    "singular",
     "structure",
     "synthesis",
 )

@@ -1,7 +1,7 @@
 """Gears on a drawing: pitch circles, a mark turning with each gear, tooth counts, and
 a cross at each mesh's pitch point.
 
-Owns how the file's gear pairs are drawn (:func:`add_gear_artists`, called by the
+Owns how the file's gear pairs are drawn (:func:`gear_artists`, moved by the
 scheme) and the room they take (:func:`gear_cloud`, for the axes limits). A gear is
 drawn once however many meshes it takes part in; a rack's pitch line is not drawn.
 """
@@ -15,8 +15,15 @@ from mjstruct.gear_pairs import gear_pairs
 from mjstruct.typing import ComplexArray
 
 if TYPE_CHECKING:
+    from collections.abc import Callable, Mapping
+
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+
     from mjstruct.kinematics.model import KinematicModel
-    from mjstruct.plot.scheme import At, SchemeArtists
+
+#: where a frame's anchors are drawn (the scheme's positions: joint id -> z)
+At = dict[str, complex]
 
 GEAR_COLOUR = "#2a7f62"
 
@@ -49,23 +56,24 @@ def gear_cloud(model: KinematicModel, anchors: dict[str, ComplexArray]) -> list[
     return [anchors[g.joint] + g.radius * d for g in drawn_gears(model) for d in (1, -1, 1j, -1j)]
 
 
-def add_gear_artists(sa: SchemeArtists) -> None:
+def gear_artists(
+    ax: Axes, model: KinematicModel, poses: Mapping[str, Any]
+) -> list[tuple[list[Artist], Callable[[At, int], None]]]:
     """Pitch circles (dash-dot), a radius turning with each gear, its tooth count, and
-    a cross at each mesh's pitch point, moved at every frame."""
+    a cross at each mesh's pitch point: (artists, their update at a frame) for the
+    scheme to move (``poses``: the links' poses over the frames)."""
     from matplotlib.patches import Circle
 
-    scene = sa.scene
-    model = scene.model
-    poses = scene.motion.evaluation.poses
+    parts: list[tuple[list[Artist], Callable[[At, int], None]]] = []
     gears = drawn_gears(model)
     for g in gears:
         circle = Circle(
             (0, 0), g.radius, fill=False, ls="-.", lw=1.0, color=GEAR_COLOUR, zorder=1.4,
             gid=f"gear:{g.link}:{g.joint}",
         )  # fmt: skip
-        sa.ax.add_patch(circle)
-        (mark,) = sa.ax.plot([], [], color=GEAR_COLOUR, lw=1.0, zorder=1.4)
-        label = sa.ax.text(
+        ax.add_patch(circle)
+        (mark,) = ax.plot([], [], color=GEAR_COLOUR, lw=1.0, zorder=1.4)
+        label = ax.text(
             0, 0, "" if g.teeth is None else f"z = {g.teeth}", fontsize=7, color=GEAR_COLOUR,
             ha="center", va="bottom", zorder=3,
         )  # fmt: skip
@@ -78,11 +86,11 @@ def add_gear_artists(sa: SchemeArtists) -> None:
             mk.set_data([z.real, tip.real], [z.imag, tip.imag])
             lb.set_position((z.real, z.imag + 0.55 * g.radius))
 
-        sa._add([circle, mark, label], update)
+        parts.append(([circle, mark, label], update))
     for pair in gear_pairs(model.mechanism):
         if pair.kind == "rack" or pair.radii is None or pair.centres is None:
             continue
-        (cross,) = sa.ax.plot([], [], marker="x", ms=7, mew=1.5, color=GEAR_COLOUR, ls="")
+        (cross,) = ax.plot([], [], marker="x", ms=7, mew=1.5, color=GEAR_COLOUR, ls="")
 
         def mesh(at: At, k: int, g: Any = pair, cross: Any = cross) -> None:
             a, b = (at[c] for c in g.centres)
@@ -94,4 +102,5 @@ def add_gear_artists(sa: SchemeArtists) -> None:
             p = a + s1 * d / abs(d)
             cross.set_data([p.real], [p.imag])
 
-        sa._add([cross], mesh)
+        parts.append(([cross], mesh))
+    return parts

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjstruct.plot.gear_artists import add_gear_artists
+from mjstruct.plot.gear_artists import gear_artists
 from mjstruct.plot.placement import clearance, free_direction
 from mjstruct.plot.scene import Scene, anchor_arrays, duplicate_joint, guide_sides, vector_sites
 from mjstruct.plot.style import DRIVER_COLOUR, FRAME_COLOUR, GROUP_COLOURS, LINK_COLOUR
@@ -167,7 +167,8 @@ class SchemeArtists:
             else:
                 self._block(j.id)
         if m.extra.get("gears"):
-            add_gear_artists(self)
+            for artists, update in gear_artists(ax, model, scene.motion.evaluation.poses):
+                self._add(artists, update)
         for d in model.drivers:
             self._driver(d)
         self._labels()
