@@ -49,6 +49,7 @@ from mjstruct.kinematics.steps.base import (
     register,
     register_rule,
 )
+from mjstruct.kinematics.steps.drivers import place_turned
 from mjstruct.kinematics.triangles import Jet, Pose
 from mjstruct.mechanism import Mechanism
 
@@ -87,10 +88,7 @@ def _gear(s: Step, k: int, run: Run) -> None:
         if c:
             dq = dq + float(c) * (run.q[:, i] - run.geometry.driver_ref[d])
             dq1 = dq1 + float(c) * run.rates[..., i]
-    low = run.lower_pose(s.links[0])
-    r = base.r * np.exp(1j * dq) if low is None else low[0]
-    w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
-    run.place(s.links[0], Pose(run.geometry.centres[s.joint], run.centre(s.joint), r, w))
+    place_turned(run, s.links[0], s.joint, base, dq, dq1)
 
 
 register(
