@@ -8,6 +8,7 @@ import copy
 import json
 import math
 
+import numpy as np
 import pytest
 import sympy as sp
 
@@ -15,7 +16,7 @@ from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.errors import MechanismError
 from mjstruct.gear_pairs import gear_pairs
-from mjstruct.gears.planetary import planetary_synthesis
+from mjstruct.gears.planetary import planetary_synthesis, two_aa_mechanism
 from mjstruct.gears.structure import (
     equivalent_chain,
     fundamental_circuit,
@@ -24,6 +25,7 @@ from mjstruct.gears.structure import (
 )
 from mjstruct.gears.willis import angular_velocities, speed_ratio
 from mjstruct.io import mechanism_from_dict, read_mechanism
+from mjstruct.kinematics.solver import kinematic_analysis
 from mjstruct.report import structural_report
 
 
@@ -42,28 +44,6 @@ def planetary(planets: int, sun: int = 20, planet: int = 40) -> dict:
         gears.append({"id": f"r{k}", "links": [f"p{k}", "0"], "type": "internal",
                       "teeth": [planet, ring], "module": 1,
                       "centres": [f"P{k}", "O"]})  # fmt: skip
-    return {"frame": "0", "joints": joints, "drivers": ["O"], "gears": gears}
-
-
-def two_aa(z: tuple[int, int, int, int], k: int, t1: float = 1.0) -> dict:
-    """The 2AA train of docs/gears.md with gear 4 in the frame, k satellite sets."""
-    z1, z2, z3, z4 = z
-    a12, a23 = (z1 + z2) / 2, t1 * (z2 + z3) / 2
-    joints = [{"id": "O", "links": ["0", "1", "H"], "at": [0, 0]}]
-    gears = []
-    for j in range(k):
-        c, s = math.cos(2 * math.pi * j / k), math.sin(2 * math.pi * j / k)
-        joints += [{"id": f"S2{j}", "links": ["H", f"2{j}"], "at": [a12 * c, a12 * s]},
-                   {"id": f"S3{j}", "links": ["H", f"3{j}"],
-                    "at": [(a12 + a23) * c, (a12 + a23) * s]}]  # fmt: skip
-        gears += [
-            {"id": f"a{j}", "links": ["1", f"2{j}"], "radii": [z1 / 2, z2 / 2],
-             "centres": ["O", f"S2{j}"]},
-            {"id": f"b{j}", "links": [f"2{j}", f"3{j}"], "radii": [t1 * z2 / 2, t1 * z3 / 2],
-             "centres": [f"S2{j}", f"S3{j}"]},
-            {"id": f"c{j}", "links": [f"3{j}", "0"], "radii": [(a12 + a23) * z3 / (z3 + z4),
-             (a12 + a23) * z4 / (z3 + z4)], "centres": [f"S3{j}", "O"]},
-        ]  # fmt: skip
     return {"frame": "0", "joints": joints, "drivers": ["O"], "gears": gears}
 
 
@@ -165,15 +145,31 @@ def test_willis_ratios_equal_the_rolling_solve(name, pairs):
 
 
 def test_synthesised_2aa_sets_turn_at_their_ratio():
-    """Tooth sets from the synthesis, built as mechanisms (the mesh check passes), turn
-    at 1 + Z4/Z1 by Willis' equations, and k satellite sets leave k - 1 redundant."""
-    r = planetary_synthesis(4, 3, ratio_tolerance=0.03, coaxial_tolerance=0.0, z_max=90)
-    assert r.count > 0
-    for s in r.sets[:5]:
-        m = mechanism_from_dict(two_aa((s.z1, s.z2, s.z3, s.z4), 3))
-        assert speed_ratio(m, "1", "H") == 1 + sp.Rational(s.z4, s.z1) == pytest.approx(s.ratio)
-        g = geared_structure(m)
-        assert (g.F_rank, g.rc) == (1, 2)
+    """Tooth sets from the synthesis, built as mechanisms (the mesh check passes, with
+    meshing-angle factors too), turn at 1 + Z4/Z1 by Willis' equations and in the
+    kinematics, and k satellite sets leave k - 1 redundant constraints."""
+    for t1, t2 in ((1.0, 1.0), (1.1, 1.05)):
+        r = planetary_synthesis(4, 3, t1=t1, t2=t2, ratio_tolerance=0.03, z_max=90)
+        assert r.count > 0
+        for s in r.sets[:4]:
+            m = mechanism_from_dict(two_aa_mechanism(s, 3, t1))
+            assert speed_ratio(m, "1", "H") == 1 + sp.Rational(s.z4, s.z1)
+            g = geared_structure(m)
+            assert (g.F_rank, g.rc) == (1, 2)
+            omega = kinematic_analysis(m, frames=3).links["H"]["omega"]
+            assert np.allclose(omega, 1 / s.ratio, rtol=1e-12)
+
+
+def test_cli_writes_the_chosen_set(tmp_path, capsys):
+    out = tmp_path / "train.json"
+    argv = ["planetary", "--ratio", "4", "--t1", "1.1", "--t2", "1.05", "--set", "2"]
+    assert main([*argv, "-o", str(out), "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    chosen = result["sets"][1]
+    m = read_mechanism(out)
+    assert speed_ratio(m, "1", "H") == 1 + sp.Rational(chosen["Z4"], chosen["Z1"])
+    assert main([*argv, "--set", "100000", "-o", str(tmp_path / "x.json")]) == 2
+    assert "--set: must be in 1.." in capsys.readouterr().err
 
 
 def test_differential_needs_a_held_member():

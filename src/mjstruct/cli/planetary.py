@@ -31,6 +31,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--z-min", type=int, default=18, help="fewest teeth of any gear (18)")
     p.add_argument("--z-max", type=int, default=300, help="most teeth of any gear (300)")
     p.add_argument("--limit", type=int, default=20, help="sets printed, best first (20)")
+    p.add_argument(
+        "-o", "--output", help="write the set chosen by --set as a mechanism file (.json)"
+    )
+    p.add_argument("--set", type=int, default=1, help="with -o: which set, best first (1)")
     p.add_argument("--json", action="store_true")
 
 
@@ -53,6 +57,9 @@ def run(args: argparse.Namespace) -> int:
             z_max=args.z_max,
         )
     shown = r.sets[: args.limit]
+    written = None
+    if args.output is not None:
+        written = _write(args, r)
     if args.json:
         out: dict[str, Any] = {
             "scheme": "2AA",
@@ -69,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
             "count": r.count,
             "sets": [s.as_dict() for s in shown],
         }
+        if written is not None:
+            out["output"] = written
         emit_json(out)
         return 0
     g = r.range
@@ -93,5 +102,24 @@ def run(args: argparse.Namespace) -> int:
             f"{100 * s.ratio_error:>8.3f} {s.t2_exact:>9.5f} {s.assembly_number:>9} "
             f"{s.neighbour_margin_2:>7.2f} {s.neighbour_margin_3:>7.2f}"
         )
+    if written is not None:
+        lines.append(f"wrote {written} (set {args.set} as a mechanism file)")
     emit_text("\n".join(lines))
     return 0
+
+
+def _write(args: argparse.Namespace, r: Any) -> str:
+    """The chosen set as a mechanism file at ``-o`` (JSON)."""
+    import json
+
+    from mjstruct.errors import MechanismError
+    from mjstruct.gears.planetary import two_aa_mechanism
+    from mjstruct.output_files import write_text
+
+    if not str(args.output).endswith(".json"):
+        raise MechanismError(f"-o: a mechanism file ends in .json, got {args.output}")
+    if not 1 <= args.set <= r.count:
+        raise MechanismError(f"--set: must be in 1..{r.count} (the sets found), got {args.set}")
+    data = two_aa_mechanism(r.sets[args.set - 1], r.satellites, r.t1)
+    write_text(args.output, json.dumps(data, indent=1) + "\n", name="-o")
+    return str(args.output)

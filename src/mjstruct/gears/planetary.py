@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -310,3 +311,50 @@ def _search(
                 )
     found.sort(key=lambda t: (abs(t.ratio_error), abs(t.t2_exact - t2), t.z1, t.z2, t.z3, t.z4))
     return tuple(found)
+
+
+def two_aa_mechanism(
+    s: ToothSet, satellites: int, t1: float = 1.0, module: float = 1.0
+) -> dict[str, Any]:
+    """The mechanism file (a dict, docs/contract.md) of a 2AA train with the tooth
+    numbers ``s``: gear 4 in the frame "0", gear 1 and the carrier "H" on the main axis
+    O, ``satellites`` sets of satellites "2<j>", "3<j>" on one radius each. The meshes
+    are given by their teeth and working pitch radii (a_w Z_i / (Z_i + Z_j)), so the
+    file's mesh check holds with the meshing-angle factors t1 and ``s.t2_exact``.
+
+    >>> from mjstruct.io import mechanism_from_dict
+    >>> best = planetary_synthesis(12, 3).sets[0]
+    >>> m = mechanism_from_dict(two_aa_mechanism(best, 3))
+    >>> m.n, len(m.extra["gears"])
+    (9, 9)
+    """
+    k = expect_int(satellites, "satellites", 2)
+    a12 = module * (s.z1 + s.z2) / 2
+    a23 = t1 * module * (s.z2 + s.z3) / 2
+    a34 = a12 + a23
+
+    def mesh(
+        gid: str, links: list[str], z: tuple[int, int], a: float, centres: list[str]
+    ) -> dict[str, Any]:
+        radii = [a * z[0] / (z[0] + z[1]), a * z[1] / (z[0] + z[1])]
+        return {"id": gid, "links": links, "teeth": list(z), "radii": radii, "centres": centres}
+
+    joints: list[dict[str, Any]] = [{"id": "O", "links": ["0", "1", "H"], "at": [0.0, 0.0]}]
+    gears = []
+    for j in range(k):
+        c, sn = math.cos(2 * math.pi * j / k), math.sin(2 * math.pi * j / k)
+        joints.append({"id": f"S2{j}", "links": ["H", f"2{j}"], "at": [a12 * c, a12 * sn]})
+        joints.append({"id": f"S3{j}", "links": ["H", f"3{j}"], "at": [a34 * c, a34 * sn]})
+        gears += [
+            mesh(f"g12-{j}", ["1", f"2{j}"], (s.z1, s.z2), a12, ["O", f"S2{j}"]),
+            mesh(f"g23-{j}", [f"2{j}", f"3{j}"], (s.z2, s.z3), a23, [f"S2{j}", f"S3{j}"]),
+            mesh(f"g34-{j}", [f"3{j}", "0"], (s.z3, s.z4), a34, [f"S3{j}", "O"]),
+        ]
+    return {
+        "name": f"2AA planetary train: Z = {s.z1}, {s.z2}, {s.z3}, {s.z4}, k = {k}, "
+        f"ratio 1 to H {s.ratio:.6g}",
+        "frame": "0",
+        "joints": joints,
+        "drivers": ["O"],
+        "gears": gears,
+    }
