@@ -317,8 +317,8 @@ def forward_dynamics(
     t_end : the end time (> 0).
     q0, qdot0 : one value per driver (default: the reference configuration, at rest).
     frames : output times, equally spaced over ``[0, t_end]`` (>= 2).
-    method : ``auto`` (DOP853, or Radau when the stiffness ratio exceeds
-        :data:`STIFF_RATIO`), or one of ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``.
+    method : ``auto`` (DOP853, or Radau by the stiffness rule of the module docstring:
+        :func:`auto_method`), or one of ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``.
     rtol, atol : the solver's tolerances (``atol`` in the drivers' units; default
         ``rtol`` × a radian, or × the mechanism's size for a slide).
     parameters : values overriding the file's; every parameter needs a value.
