@@ -34,6 +34,7 @@ import argparse
 import json
 import math
 import os
+import re
 import subprocess
 from functools import partial
 from pathlib import Path
@@ -354,15 +355,16 @@ def mjstruct_command() -> list[str]:
 
 
 def run_cli(argv: list[str]) -> dict[str, float]:
-    """Run one command (its output thrown away) and sample the memory of its process
+    """Run one command (the count read from its summary line) and sample the memory of its process
     tree every 20 ms: wall seconds, CPU seconds of the tree (getrusage of the waited
     children), peak Σ PSS (each shared page counted once, split between the processes
     sharing it) and peak Σ RSS (shared pages counted in every process: what the goal
-    counts) in MB."""
+    counts) in MB, and the number of chains the command printed."""
     import time
 
     t0 = time.perf_counter()
-    child = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    # the summary is short: read after the end, without filling the pipe
+    child = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     peak_pss = peak_rss = 0.0
     while child.poll() is None:
         pss, rss = _tree_memory(child.pid)
@@ -371,7 +373,15 @@ def run_cli(argv: list[str]) -> dict[str, float]:
     wall = time.perf_counter() - t0
     if child.returncode:
         raise SystemExit(f"{' '.join(argv)} failed: {child.stderr.read().decode()}")  # type: ignore[union-attr]
-    return {"wall": wall, "pss": peak_pss, "rss": peak_rss}
+    first = child.stdout.readline().decode()  # type: ignore[union-attr]
+    child.stdout.read()  # type: ignore[union-attr]
+    count = re.search(r": (\d+) chains", first)
+    return {
+        "wall": wall,
+        "pss": peak_pss,
+        "rss": peak_rss,
+        "count": int(count[1]) if count else -1,
+    }
 
 
 def _median(xs: list[float]) -> float:
@@ -422,7 +432,8 @@ def goals(repeat: int) -> None:
         f"{'SJ12 wall s':>12} {'SJ14 wall s':>12} {'SJ14 ΣRSS MB':>13} {'geng14 s':>9} "
         f"{'load':>14}"
     )
-    counts: dict[int, int] = {}
+    counts: dict[int, int] = {}  # geng + filter's
+    chains: dict[int, int] = {}  # the command's
     for k in range(repeat):
         r = run_cli(mj12)
         keep("mj_wall", r["wall"])
@@ -432,6 +443,7 @@ def goals(repeat: int) -> None:
             r = run_cli(argv)
             keep(f"sj{n}", r["wall"])
             keep(f"sj{n}_rss", r["rss"])
+            chains[n] = int(r["count"])
         if have_geng:
             t0 = time.perf_counter()
             _, counts[14], _ = geng_admissible(1, 14, workers=2)
@@ -443,9 +455,6 @@ def goals(repeat: int) -> None:
             f"{got['sj14_rss'][-1]:13.0f} {geng_s} {_load():>14}"
         )
     med = {key: _median(v) for key, v in got.items()}
-    from mjstruct.synthesis.atlas import atlas as atlas_
-
-    chains = {n: atlas_(1, n, workers=2, limit=None).count for n in (12, 14)}
     exponent = math.log(med["sj14"] / med["sj12"]) / math.log(chains[14] / chains[12])
     print(
         f"\nsimple-joint atlas command: {chains[12]} chains at 12 links, {chains[14]} at 14; "

@@ -151,27 +151,43 @@ def main() -> None:
         help="benchmarks to run: " + ", ".join(GOALS) + f" ({', '.join(OPT_IN)} only if named)",
     )
     ap.add_argument("--verbose", action="store_true", help="print each benchmark's output")
+    ap.add_argument(
+        "--write-doc",
+        metavar="MD",
+        help="replace the section 'The latest run' of this page (docs/performance.md) "
+        "with the table",
+    )
+    ap.add_argument("--log", metavar="FILE", help="append every benchmark's output to FILE")
     args = ap.parse_args()
     chosen = [k for k in args.only.split(",") if k]
     unknown = set(chosen) - set(GOALS)
     if unknown:
         ap.error(f"unknown benchmark(s): {', '.join(sorted(unknown))}")
     found: dict[str, list[float | None]] = {}
+    loads: list[float] = []
+    start = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
     for r in range(args.runs):
         print(f"round {r + 1} of {args.runs}, load {load()}", flush=True)
+        loads.append(float(load().split()[0]))
         for key in chosen:
             script, goals = GOALS[key]
             t0 = time.perf_counter()
             text = run(script)
             if args.verbose:
                 print(text)
+            if args.log:
+                with open(args.log, "a") as fh:
+                    fh.write(f"== round {r + 1}: {' '.join(script)} ==\n{text}\n")
             shown = []
             for goal in goals:
                 value = ratio(goal, text)
                 found.setdefault(goal.label, []).append(value)
                 shown.append("-" if value is None else f"{value:.2f}")
             took = time.perf_counter() - t0
+            loads.append(float(load().split()[0]))
             print(f"  {key:<11} {', '.join(shown):<28} ({took:.0f} s, load {load()})", flush=True)
+    end = time.strftime("%H:%M", time.gmtime())
+    rows = []
     print(f"\n{'goal (ratio)':<50} {'limit':>5}  {'rounds':<24} verdict")
     for key in chosen:
         for goal in GOALS[key][1]:
@@ -185,6 +201,36 @@ def main() -> None:
                 verdict = "PASS" if held == len(values) else f"FAIL ({held} of {len(values)})"
             rounds = " ".join("-" if v is None else f"{v:.2f}" for v in values)
             print(f"{goal.label:<50} {goal.limit:5.2f}  {rounds:<24} {verdict}")
+            rows.append((goal, values, verdict))
+    if args.write_doc:
+        write_doc(Path(args.write_doc), rows, args.runs, f"{start}–{end} UTC", loads)
+
+
+def write_doc(
+    page: Path,
+    rows: list[tuple[Goal, list[float | None], str]],
+    runs: int,
+    when: str,
+    loads: list[float],
+) -> None:
+    """Replace the section "The latest run" of ``page`` with this run's table."""
+    head = "| goal (ratio) | limit | " + " | ".join(f"round {k + 1}" for k in range(runs))
+    lines = [
+        f"{when}, `python benchmarks/goals.py --runs {runs}`, load average (1 min) "
+        f"{min(loads):.1f}–{max(loads):.1f} on two cores:",
+        "",
+        head + " | verdict |",
+        "|---|---|" + "---|" * runs + "---|",
+    ]
+    for goal, values, verdict in rows:
+        cells = " | ".join("-" if v is None else f"{v:.2f}" for v in values)
+        word = {"PASS": "holds"}.get(verdict, verdict.lower().replace("fail", "fails"))
+        lines.append(f"| {goal.label} | {goal.limit:g} | {cells} | {word} |")
+    text = page.read_text(encoding="utf-8")
+    top = "## The latest run\n"
+    a = text.index(top) + len(top)
+    b = text.index("\n## ", a)
+    page.write_text(text[:a] + "\n" + "\n".join(lines) + "\n" + text[b:], encoding="utf-8")
 
 
 if __name__ == "__main__":
