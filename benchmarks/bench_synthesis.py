@@ -246,6 +246,7 @@ def task_for(name: str, solver: dict[str, int] | None = None) -> dict[str, Any]:
         "targets": [list(v) for v in p["targets"]],
         "motion": "crank-rocker",
         "region": {"O1": [[-box, -box], [box, box]], "A": far, "B": far, "O2": far, "C": far},
+        "transmission_deg": 0,  # the papers' formulation: no bound (the default is 20)
     }
     if p["timing"] is not None:
         task["timing"] = p["timing"]
