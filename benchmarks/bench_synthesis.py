@@ -170,6 +170,19 @@ def baseline_score(name: str, x: np.ndarray) -> tuple[float, bool]:
     return (err if math.isfinite(err) else math.inf), bool(feasible)
 
 
+def baseline_bounds(name: str) -> tuple[np.ndarray, list[tuple[float, float]]]:
+    """The problem's targets (complex) and the closed form's variable bounds: r1...r4,
+    rcx, rcy, the frame angle, x0, y0 and, untimed, one crank angle per target."""
+    p = PROBLEMS[name]
+    targets = np.array([complex(*t) for t in p["targets"]])
+    lo, hi = p["r"]
+    box = p["box"]
+    bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
+    if p["timing"] is None:
+        bounds += [(0.0, 2 * math.pi)] * len(targets)
+    return targets, bounds
+
+
 def baseline(
     name: str, seed: int, record: list[tuple[float, float, float]] | None = None
 ) -> tuple[np.ndarray, float]:
@@ -179,12 +192,7 @@ def baseline(
     from scipy.optimize import differential_evolution
 
     p = PROBLEMS[name]
-    targets = np.array([complex(*t) for t in p["targets"]])
-    lo, hi = p["r"]
-    box = p["box"]
-    bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
-    if p["timing"] is None:
-        bounds += [(0.0, 2 * math.pi)] * len(targets)
+    targets, bounds = baseline_bounds(name)
     t0, w0 = time.process_time(), time.perf_counter()
 
     def note(xk: np.ndarray, convergence: float = 0.0) -> None:
@@ -444,12 +452,7 @@ def race_baseline(name: str, seed: int, limit: float) -> list[tuple[float, float
     from scipy.optimize import differential_evolution
 
     p = PROBLEMS[name]
-    targets = np.array([complex(*t) for t in p["targets"]])
-    lo, hi = p["r"]
-    box = p["box"]
-    bounds = [(lo, hi)] * 4 + [(-box, box)] * 2 + [(0.0, 2 * math.pi)] + [(-box, box)] * 2
-    if p["timing"] is None:
-        bounds += [(0.0, 2 * math.pi)] * len(targets)
+    targets, bounds = baseline_bounds(name)
     t0 = time.process_time()
     curve: list[tuple[float, float]] = []
     best = [math.inf]
