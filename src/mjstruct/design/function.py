@@ -197,7 +197,7 @@ def range_targets(q: FloatArray, angles: FloatArray) -> tuple[FloatArray, FloatA
     >>> import numpy as np
     >>> x = np.linspace(0.0, 1.0, 6)
     >>> qd, ad = range_targets(x, x**3)          # a cubic: the spline is exact
-    >>> bool(np.allclose(ad, qd**3)), qd[0], qd[-1]
+    >>> bool(np.allclose(ad, qd**3)), float(qd[0]), float(qd[-1])
     (True, 0.0, 1.0)
     """
     from scipy.interpolate import CubicSpline
