@@ -139,3 +139,12 @@ def test_many_untimed_targets_are_solved_on_a_thinned_set_then_all():
     moved = mechanism_to_dict(r.mechanism)
     for v, t in zip(r.details["timing"], targets, strict=True):
         assert abs(coupler_point(moved, float(v)) - complex(*t)) < 1e-8
+
+
+def test_budget_is_refused_with_atlas(tmp_path, capsys):
+    task, _ = _timed_task({"restarts": 1})
+    path = tmp_path / "task.json"
+    path.write_text(json.dumps(task))
+    argv = ["synthesize", str(path), "-o", str(tmp_path / "o.json"), "--atlas", "4"]
+    assert main([*argv, "--budget", "5"]) == 2
+    assert capsys.readouterr().err.startswith("mjstruct synthesize: --budget: not used with")

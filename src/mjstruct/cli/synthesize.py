@@ -71,6 +71,8 @@ def run(args: argparse.Namespace) -> int:
     if args.mj and args.atlas is None:
         raise MechanismError("--mj: needs --atlas")
     if args.atlas is not None:
+        if args.budget is not None:
+            raise MechanismError("--budget: not used with --atlas (its racing sets the effort)")
         return _run_atlas(args)
     task = load_task(args.task)
     bar = ProgressBar.for_cli(f"synthesize {task.kind}", args.json)
