@@ -27,16 +27,18 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.branches import fill_change_frames
-from mjstruct.kinematics.checks import Checks, checks_level, run_checks
+from mjstruct.kinematics.branches import constant_sine, fill_change_frames
+from mjstruct.kinematics.checks import Checks, checks_level, plan_determinant, run_checks
 from mjstruct.kinematics.closure import Closure
+from mjstruct.kinematics.continuity import closure_walls
 from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.jacobian import poses_at
 from mjstruct.kinematics.memory import CHUNK_FRAMES, LEAD_FRAMES, check_sweep_memory
 from mjstruct.kinematics.model import KinematicModel, Motion, model_of
 from mjstruct.kinematics.planner import Plan
+from mjstruct.kinematics.reach import reached_frames, sign_walls
 from mjstruct.kinematics.result import KinematicsResult, collect
-from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR
+from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR, WATCH
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition
 
@@ -112,14 +114,54 @@ def kinematic_analysis(
         qa = km.driver_values(q)
         check_sweep_memory(km, qa.shape[0], max_memory, checks=checks)
     _check_speed(km, speed)
-    result, motion = _analyse(km, qa, speed, tol)
+    result, motion = _analyse(km, qa, speed, tol, sweep=q is None)
     result.warnings = _warnings(result, motion)
     if q is None:
         result.warnings += _open_cycle(result, km)
+    result.warnings += _denormal(result, km)
     if checks:
         with np.errstate(all="ignore"):
             run_checks(result, motion, full=checks == "full")
     return result
+
+
+#: below this speed (or size) the rates may fall into the doubles' subnormal range
+DENORMAL_WATCH = 1e-100
+
+
+def _denormal(r: KinematicsResult, km: KinematicModel) -> list[str]:
+    """Outputs that underflowed to subnormal doubles (below 2.2e-308, fewer significant
+    digits): one warning naming the quantities (checked only for tiny speeds or sizes,
+    where they can occur)."""
+    if abs(r.speed) >= DENORMAL_WATCH and km.scale >= DENORMAL_WATCH:
+        return []
+    tiny = np.finfo(float).tiny
+    v = r.valid
+    found = []
+    for name, table, keys in (
+        ("positions", r.joints, ("x", "y")),
+        ("velocities", r.joints, ("vx", "vy")),
+        ("accelerations", r.joints, ("ax", "ay")),
+        ("angular velocities", r.links, ("omega",)),
+        ("angular accelerations", r.links, ("eps",)),
+    ):
+        if not len(table):
+            continue
+        with np.errstate(all="ignore"):
+            x = np.abs(np.concatenate([table.column(k)[:, v].ravel() for k in keys]))
+        sub = (x > 0) & (x < tiny)
+        if sub.any():
+            worst = float(x[sub].min())
+            spacing = float(np.finfo(float).smallest_subnormal)
+            found.append(
+                f"{name} (down to {worst:.3g}, relative error up to {spacing / worst:.2g})"
+            )
+    if not found:
+        return []
+    return [
+        "values below the smallest normal double 2.2e-308 (subnormal: fewer significant "
+        "digits): " + "; ".join(found) + "; use larger units or speed"
+    ]
 
 
 def _open_cycle(r: KinematicsResult, km: KinematicModel) -> list[str]:
@@ -162,7 +204,7 @@ def _check_speed(km: KinematicModel, speed: float) -> None:
 
 
 def _analyse(
-    km: KinematicModel, qa: FloatArray, speed: float, tol: float
+    km: KinematicModel, qa: FloatArray, speed: float, tol: float, sweep: bool = False
 ) -> tuple[KinematicsResult, Motion]:
     """The motion on ``qa`` and its tables (no warnings, no checks)."""
     motion = km.motion(qa, order=2, tol=tol)
@@ -176,18 +218,80 @@ def _analyse(
     # (reported), and their arithmetic must not warn
     with np.errstate(all="ignore"):
         result = collect(motion, speed)
+    _not_reached(result, km, motion, sweep)
     _check_overflow(result)
     return result, motion
+
+
+def _not_reached(
+    r: KinematicsResult, km: KinematicModel, motion: Motion, sweep: bool = False
+) -> None:
+    """Frames that assemble but that no continuous motion from the reference reaches:
+    taken out of the tables into ``another_assembly`` (one driver; in place).
+
+    ``sweep``: ``r.q`` is a one-turn (or one-stroke) sweep from the reference, whose
+    consecutive frames are neighbours: a change of sign of the mechanism's Jacobian
+    between two of them is a fold the motion cannot pass.
+    """
+    if r.q.shape[1] != 1:
+        return
+    turns = km.mechanism.joint(km.drivers[0]).kind == "R"
+    walls = None
+    if sweep and r.q.shape[0] > 2:
+        with np.errstate(all="ignore"):
+            sign, _ = plan_determinant(motion)
+        quiet = np.zeros(r.q.shape[0], bool)
+        for e in r.events:
+            if e.kind in ("change point", "mode flip", "singular frame"):
+                quiet[max(e.frame - 1, 0) : e.frame + 2] = True
+        turn = 2 * np.pi * np.sign(r.q[-1, 0] - r.q[0, 0]) if turns else None
+        walls = sign_walls(r.q, sign, r.placed, quiet, turn)
+        if r.closure is not None:
+            walls = np.concatenate([walls, closure_walls(km, r.q, r.closure, turn)])
+    if r.placed.all() and (walls is None or walls.size == 0):
+        return
+    blocked = ~r.placed
+    reached = reached_frames(r.q, float(km.q_ref[0]), blocked, turns, walls)
+    other = r.placed & ~reached
+    if not other.any():
+        return
+    r.another_assembly = other
+    r.valid = r.valid & reached
+    r.assembled = r.placed & reached
+    # the branch points of another assembly are not the motion's
+    r.events = [e for e in r.events if not other[e.frame]]
 
 
 def _warnings(result: KinematicsResult, motion: Motion, offset: int = 0) -> list[str]:
     """The motion's warnings, its branch events, parallel guides and infeasible runs
     (frame numbers shifted by ``offset``)."""
     warnings = list(motion.warnings)
-    warnings += [e.message() for e in motion.events]
+    other = result.another_assembly
+    # the branch points of another assembly (frames not reached) are not the motion's
+    warnings += [
+        e.message() for e in motion.events if other is None or not other[e.frame - offset]
+    ]
     warnings += _parallel_guides(result.plan, motion.evaluation, motion.q)
+    warnings += _rigid_dyads(result.plan, motion.evaluation, result.valid)
     warnings += _infeasible(result, offset)
     return warnings
+
+
+def _rigid_dyads(plan: Plan, ev: Evaluation, valid: npt.NDArray[np.bool_]) -> list[str]:
+    """Once per dyad whose |sine| is small but never changes: it does not move relative
+    to the links it hangs on (no branch point, whatever its sine)."""
+    out = []
+    for k, s in enumerate(plan.steps):
+        if not s.step_kind.has_modes or k not in ev.diag:
+            continue
+        sine = np.abs(ev.diag[k][1][valid])
+        if sine.size >= 3 and constant_sine(sine) and float(sine.max()) < WATCH:
+            out.append(
+                f"dyad {s.kind} (step {k + 1}, joint {s.joint}): |sin| = {float(sine[0]):.3g} "
+                "on every frame: the group is rigid relative to the links it hangs on "
+                "(immobile relative to them), so it has no branch point"
+            )
+    return out
 
 
 def sweep_chunks(
@@ -261,6 +365,9 @@ def _tail(r: KinematicsResult, n: int) -> KinematicsResult:
         closure=None if r.closure is None else _tail_closure(r.closure, n),
         assembled=None if r.assembled is None else r.assembled[n:],
         partial=None if r.partial is None else r.partial[n:],
+        another_assembly=None if r.another_assembly is None else r.another_assembly[n:],
+        _motion=None,
+        _error=None,
     )
 
 
@@ -350,11 +457,12 @@ def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
     """
     if r.valid.all():
         return []  # every frame valid (and so placed): no run to word
+    gap = ~r.placed if r.another_assembly is None else ~r.placed & ~r.another_assembly
     out = [
         _unassembled(r, line, i)
         for line, i in zip(
-            _runs(r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j})", offset),
-            _run_starts(~r.placed),
+            _runs(r, gap, "no assembly for q in [{a}, {b}] (frames {i}..{j})", offset),
+            _run_starts(gap),
             strict=True,
         )
     ]
@@ -365,26 +473,40 @@ def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
         "fixed is singular; positions are given, velocities and accelerations are not (null)",
         offset,
     )
-    bad = np.concatenate([[False], ~r.placed, [False]])
-    ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
-    after = [int(j) + 1 for j in ends if j + 1 < r.valid.size]
-    # only steps with an assembly mode (circle intersections, closures) can carry the
-    # wrong branch across a gap; line-line dyads (PRP, RPP) have a single solution
-    has_modes = any(s.step_kind.has_modes or s.is_closure for s in r.plan.steps)
-    reseeded = set(() if r.closure is None else r.closure.reseeded)
-    if after and has_modes and after[0] - offset in reseeded:
-        # closed from the reference backwards: the branch of the reference, reached by
-        # the driver turning the other way (it cannot cross the gap)
-        out.append(
-            f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
-            "reached from the reference with the driver turning the other way (the same "
-            "branch; the driver cannot cross the gap, it rocks)"
-        )
-    elif after and has_modes:
-        # the motion cannot physically cross an infeasible interval: say so
-        out.append(
-            f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
-            "found by continuation across the gap (same assembly modes), not a physical motion"
+    out += _beyond_gaps(r, offset)
+    return out
+
+
+def _beyond_gaps(r: KinematicsResult, offset: int = 0) -> list[str]:
+    """Frames past an interval that does not assemble: reached the other way round, or
+    another assembly (not reached), each run once."""
+    blocked = ~r.placed
+    if r.another_assembly is not None:
+        blocked &= ~r.another_assembly
+    if not blocked.any():
+        return []
+    out = []
+    # frames reached after a gap in the sweep's order: the driver turning the other way
+    first_gap = int(np.argmax(blocked))
+    later = r.placed.copy()
+    later[:first_gap] = False
+    out += _runs(
+        r,
+        later,
+        "frames {i}..{j} (q in [{a}, {b}]) lie past an interval that does not assemble: "
+        "reached from the reference with the driver turning the other way (the motion "
+        "cannot cross the gap; the driver rocks)",
+        offset,
+    )
+    if r.another_assembly is not None:
+        out += _runs(
+            r,
+            r.another_assembly,
+            "frames {i}..{j} (q in [{a}, {b}]) assemble again past an interval that does not "
+            "assemble, but no continuous motion from the reference reaches them: another "
+            "assembly, not reached; their values are null (positions under "
+            "another_assembly)",
+            offset,
         )
     return out
 
