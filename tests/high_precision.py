@@ -104,6 +104,15 @@ class Reference:
                 out[j.id] = mp.mpc(x[c], x[c + 1]) + r * mp.mpc(z.real - o.real, z.imag - o.imag)
         return out
 
+    def positions(self, q: float) -> dict[str, complex]:
+        """Joint centres at driver value ``q`` (one high-precision solve), as doubles."""
+        got = reach(self.system, np.array([q]))
+        if 0 not in got:
+            raise ArithmeticError("the frame is not reached from the reference")
+        with mp.workdps(DIGITS):
+            x = self.solve(mp.mpf(q) - mp.mpf(self.system.q_ref), got[0].x)
+            return {j: complex(z) for j, z in self.centres(x).items()}
+
     def analogs(
         self, q: float, h: float = 1e-12
     ) -> tuple[dict[str, complex], dict[str, complex], dict[str, complex]]:

@@ -20,6 +20,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from mjstruct.kinematics.closure_newton import newton, subset_modes, tangent
 from mjstruct.kinematics.steps.base import Modes
@@ -27,8 +28,7 @@ from mjstruct.kinematics.tolerances import CLOSURE_TOL
 from mjstruct.typing import BoolArray, FloatArray
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.closure import Closure
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
 
 
 #: rounds of the adaptive continuation between two frames
@@ -47,12 +47,20 @@ BIG_STEP = 1e-2
 
 
 def closure_walls(
-    model: KinematicModel, q: FloatArray, closure: Closure, turn: float | None
+    model: ModelView,
+    q: FloatArray,
+    closed: tuple[FloatArray, FloatArray, BoolArray],
+    jumps: tuple[int, ...],
+    modes: dict[int, npt.NDArray[np.int8]],
+    tol: float,
+    turn: float | None,
 ) -> FloatArray:
     """Driver values between consecutive frames of the sweep ``q`` that no continuous
-    motion joins (see the module docstring); ``turn`` (±2π) joins the last frame to
-    frame 0, the reference, or None."""
-    t, t1, ok = closure.t, closure.t1, closure.converged
+    motion joins (see the module docstring): ``closed`` the closure's unknowns, their
+    slopes dt/dq and the frames that closed, ``jumps`` the frames its branch-jump test
+    flagged, ``modes`` its inner dyads' modes per frame, ``tol`` its tolerance;
+    ``turn`` (±2π) joins the last frame to frame 0, the reference, or None."""
+    t, t1, ok = closed
     F = q.shape[0]
     a = np.arange(F - 1)
     b = a + 1
@@ -62,24 +70,24 @@ def closure_walls(
         qa, qb = np.append(qa, q[F - 1, 0]), np.append(qb, q[0, 0] + turn)
     both = ok[a] & ok[b] & np.isfinite(t1[a]).all(axis=1)
     flagged = np.zeros(a.size, bool)
-    for j in closure.jumps:
+    for j in jumps:
         flagged |= (a == j) | (b == j)
     step = np.abs(t[b] - t[a]).max(axis=1)
     same_modes = np.ones(a.size, bool)
-    for v in closure.modes.values():
+    for v in modes.values():
         same_modes &= v[a] == v[b]
     follow = np.flatnonzero(both & same_modes & (flagged | (step > BIG_STEP)))
     if follow.size == 0:
         return np.zeros(0)
     ia, ib = a[follow], b[follow]
     x0, x1 = qa[follow], qb[follow]
-    K = subset_modes(closure.modes or None, ia)
-    joined = _follow(model, x0, x1, t[ia], t1[ia], t[ib], K, closure.tol)
+    K = subset_modes(dict(modes) or None, ia)
+    joined = _follow(model, x0, x1, t[ia], t1[ia], t[ib], K, tol)
     return np.asarray(0.5 * (x0 + x1)[~joined])
 
 
 def joined_along(
-    model: KinematicModel,
+    model: ModelView,
     x: FloatArray,
     t: FloatArray,
     d: FloatArray,
@@ -111,7 +119,7 @@ def joined_along(
 
 
 def _follow(
-    model: KinematicModel,
+    model: ModelView,
     x0: FloatArray,
     x1: FloatArray,
     t0: FloatArray,

@@ -27,7 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.branches import constant_sine, fill_change_frames
+from mjstruct.kinematics.branches import BranchEvent, constant_sine, fill_change_frames
 from mjstruct.kinematics.checks import Checks, checks_level, plan_determinant, run_checks
 from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.continuity import closure_walls
@@ -247,7 +247,10 @@ def _not_reached(
         turn = 2 * np.pi * np.sign(r.q[-1, 0] - r.q[0, 0]) if turns else None
         walls = sign_walls(r.q, sign, r.placed, quiet, turn)
         if r.closure is not None:
-            walls = np.concatenate([walls, closure_walls(km, r.q, r.closure, turn)])
+            c = r.closure
+            closed = (c.t, c.t1, c.converged)
+            more = closure_walls(km, r.q, closed, c.jumps, dict(c.modes), c.tol, turn)
+            walls = np.concatenate([walls, more])
     if r.placed.all() and (walls is None or walls.size == 0):
         return
     blocked = ~r.placed
@@ -268,13 +271,52 @@ def _warnings(result: KinematicsResult, motion: Motion, offset: int = 0) -> list
     warnings = list(motion.warnings)
     other = result.another_assembly
     # the branch points of another assembly (frames not reached) are not the motion's
-    warnings += [
-        e.message() for e in motion.events if other is None or not other[e.frame - offset]
-    ]
+    events = [e for e in motion.events if other is None or not other[e.frame - offset]]
+    warnings += _event_messages(events, motion.evaluation, offset)
     warnings += _parallel_guides(result.plan, motion.evaluation, motion.q)
     warnings += _rigid_dyads(result.plan, motion.evaluation, result.valid)
     warnings += _infeasible(result, offset)
     return warnings
+
+
+def _event_messages(events: list[BranchEvent], ev: Evaluation, offset: int = 0) -> list[str]:
+    """One line per event, but one per interval for a dyad's near branch points: those
+    inside one run of frames where its |sine| stays below the watch level are one
+    warning with the run's q range and the smallest |sine| (a dyad that wobbles near
+    its dead point gave one warning per wobble)."""
+    out: list[str] = []
+    done: set[int] = set()
+    for n, e in enumerate(events):
+        if n in done:
+            continue
+        if e.kind != "near branch point" or e.step not in ev.diag:
+            out.append(e.message())
+            continue
+        sine = np.abs(ev.diag[e.step][1])
+        low = np.concatenate([[False], sine < WATCH, [False]])
+        starts = np.flatnonzero(low[1:] & ~low[:-1])
+        ends = np.flatnonzero(~low[1:] & low[:-1]) - 1
+        f = e.frame - offset
+        run = next(((a, b) for a, b in zip(starts, ends, strict=True) if a <= f <= b), None)
+        same = [
+            k
+            for k, x in enumerate(events)
+            if x.kind == "near branch point" and x.step == e.step and run is not None
+            and run[0] <= x.frame - offset <= run[1]
+        ]  # fmt: skip
+        if len(same) <= 1 or run is None:
+            out.append(e.message())
+            continue
+        done.update(same)
+        worst = min((events[k] for k in same), key=lambda x: x.sine)
+        a, b = int(run[0]), int(run[1])
+        out.append(
+            f"near branch points for q in [{events[same[0]].q:.9g}, {events[same[-1]].q:.9g}] "
+            f"(frames {a + offset}..{b + offset}, step {e.step + 1}, joint {e.joint}): "
+            f"{len(same)} closest approaches of the two branches, the smallest |sin| = "
+            f"{worst.sine:.3g} at q = {worst.q:.9g}; assembly mode kept"
+        )
+    return out
 
 
 def _rigid_dyads(plan: Plan, ev: Evaluation, valid: npt.NDArray[np.bool_]) -> list[str]:
