@@ -27,18 +27,17 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.branches import BranchEvent, constant_sine, fill_change_frames
+from mjstruct.kinematics.branches import fill_change_frames
 from mjstruct.kinematics.checks import Checks, checks_level, plan_determinant, run_checks
 from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.continuity import closure_walls
-from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.jacobian import poses_at
 from mjstruct.kinematics.memory import CHUNK_FRAMES, LEAD_FRAMES, check_sweep_memory
 from mjstruct.kinematics.model import KinematicModel, Motion, model_of
-from mjstruct.kinematics.planner import Plan
 from mjstruct.kinematics.reach import reached_frames, sign_walls
 from mjstruct.kinematics.result import KinematicsResult, collect
-from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR, WATCH
+from mjstruct.kinematics.sweep_warnings import denormal_outputs, sweep_warnings
+from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition
 
@@ -115,53 +114,14 @@ def kinematic_analysis(
         check_sweep_memory(km, qa.shape[0], max_memory, checks=checks)
     _check_speed(km, speed)
     result, motion = _analyse(km, qa, speed, tol, sweep=q is None)
-    result.warnings = _warnings(result, motion)
+    result.warnings = sweep_warnings(result, motion)
     if q is None:
         result.warnings += _open_cycle(result, km)
-    result.warnings += _denormal(result, km)
+    result.warnings += denormal_outputs(result, km)
     if checks:
         with np.errstate(all="ignore"):
             run_checks(result, motion, full=checks == "full")
     return result
-
-
-#: below this speed (or size) the rates may fall into the doubles' subnormal range
-DENORMAL_WATCH = 1e-100
-
-
-def _denormal(r: KinematicsResult, km: KinematicModel) -> list[str]:
-    """Outputs that underflowed to subnormal doubles (below 2.2e-308, fewer significant
-    digits): one warning naming the quantities (checked only for tiny speeds or sizes,
-    where they can occur)."""
-    if abs(r.speed) >= DENORMAL_WATCH and km.scale >= DENORMAL_WATCH:
-        return []
-    tiny = np.finfo(float).tiny
-    v = r.valid
-    found = []
-    for name, table, keys in (
-        ("positions", r.joints, ("x", "y")),
-        ("velocities", r.joints, ("vx", "vy")),
-        ("accelerations", r.joints, ("ax", "ay")),
-        ("angular velocities", r.links, ("omega",)),
-        ("angular accelerations", r.links, ("eps",)),
-    ):
-        if not len(table):
-            continue
-        with np.errstate(all="ignore"):
-            x = np.abs(np.concatenate([table.column(k)[:, v].ravel() for k in keys]))
-        sub = (x > 0) & (x < tiny)
-        if sub.any():
-            worst = float(x[sub].min())
-            spacing = float(np.finfo(float).smallest_subnormal)
-            found.append(
-                f"{name} (down to {worst:.3g}, relative error up to {spacing / worst:.2g})"
-            )
-    if not found:
-        return []
-    return [
-        "values below the smallest normal double 2.2e-308 (subnormal: fewer significant "
-        "digits): " + "; ".join(found) + "; use larger units or speed"
-    ]
 
 
 def _open_cycle(r: KinematicsResult, km: KinematicModel) -> list[str]:
@@ -265,77 +225,6 @@ def _not_reached(
     r.events = [e for e in r.events if not other[e.frame]]
 
 
-def _warnings(result: KinematicsResult, motion: Motion, offset: int = 0) -> list[str]:
-    """The motion's warnings, its branch events, parallel guides and infeasible runs
-    (frame numbers shifted by ``offset``)."""
-    warnings = list(motion.warnings)
-    other = result.another_assembly
-    # the branch points of another assembly (frames not reached) are not the motion's
-    events = [e for e in motion.events if other is None or not other[e.frame - offset]]
-    warnings += _event_messages(events, motion.evaluation, offset)
-    warnings += _parallel_guides(result.plan, motion.evaluation, motion.q)
-    warnings += _rigid_dyads(result.plan, motion.evaluation, result.valid)
-    warnings += _infeasible(result, offset)
-    return warnings
-
-
-def _event_messages(events: list[BranchEvent], ev: Evaluation, offset: int = 0) -> list[str]:
-    """One line per event, but one per interval for a dyad's near branch points: those
-    inside one run of frames where its |sine| stays below the watch level are one
-    warning with the run's q range and the smallest |sine| (a dyad that wobbles near
-    its dead point gave one warning per wobble)."""
-    out: list[str] = []
-    done: set[int] = set()
-    for n, e in enumerate(events):
-        if n in done:
-            continue
-        if e.kind != "near branch point" or e.step not in ev.diag:
-            out.append(e.message())
-            continue
-        sine = np.abs(ev.diag[e.step][1])
-        low = np.concatenate([[False], sine < WATCH, [False]])
-        starts = np.flatnonzero(low[1:] & ~low[:-1])
-        ends = np.flatnonzero(~low[1:] & low[:-1]) - 1
-        f = e.frame - offset
-        run = next(((a, b) for a, b in zip(starts, ends, strict=True) if a <= f <= b), None)
-        same = [
-            k
-            for k, x in enumerate(events)
-            if x.kind == "near branch point" and x.step == e.step and run is not None
-            and run[0] <= x.frame - offset <= run[1]
-        ]  # fmt: skip
-        if len(same) <= 1 or run is None:
-            out.append(e.message())
-            continue
-        done.update(same)
-        worst = min((events[k] for k in same), key=lambda x: x.sine)
-        a, b = int(run[0]), int(run[1])
-        out.append(
-            f"near branch points for q in [{events[same[0]].q:.9g}, {events[same[-1]].q:.9g}] "
-            f"(frames {a + offset}..{b + offset}, step {e.step + 1}, joint {e.joint}): "
-            f"{len(same)} closest approaches of the two branches, the smallest |sin| = "
-            f"{worst.sine:.3g} at q = {worst.q:.9g}; assembly mode kept"
-        )
-    return out
-
-
-def _rigid_dyads(plan: Plan, ev: Evaluation, valid: npt.NDArray[np.bool_]) -> list[str]:
-    """Once per dyad whose |sine| is small but never changes: it does not move relative
-    to the links it hangs on (no branch point, whatever its sine)."""
-    out = []
-    for k, s in enumerate(plan.steps):
-        if not s.step_kind.has_modes or k not in ev.diag:
-            continue
-        sine = np.abs(ev.diag[k][1][valid])
-        if sine.size >= 3 and constant_sine(sine) and float(sine.max()) < WATCH:
-            out.append(
-                f"dyad {s.kind} (step {k + 1}, joint {s.joint}): |sin| = {float(sine[0]):.3g} "
-                "on every frame: the group is rigid relative to the links it hangs on "
-                "(immobile relative to them), so it has no branch point"
-            )
-    return out
-
-
 def sweep_chunks(
     model: KinematicModel,
     frames: int,
@@ -386,7 +275,7 @@ def sweep_chunks(
         n = lead.size
         if n:
             result, motion = _tail(result, n), _tail_motion(motion, n, idx)
-        result.warnings = _warnings(result, motion, offset=a)
+        result.warnings = sweep_warnings(result, motion, offset=a)
         if checks:
             with np.errstate(all="ignore"):
                 run_checks(result, motion, full=checks == "full")
@@ -473,117 +362,3 @@ def _overflow(rate: FloatArray, analog: FloatArray, speed: float) -> None:
             f"speed: {speed:g} overflows the velocities or accelerations (largest analog "
             f"{float(np.abs(analog[np.isfinite(analog)]).max()):.3g})"
         )
-
-
-def _parallel_guides(plan: Plan, ev: Evaluation, q: FloatArray) -> list[str]:
-    """Frames where the two guides of a line-intersection dyad are parallel."""
-    out = []
-    for k, s in enumerate(plan.steps):
-        guides_of = s.step_kind.guides
-        if guides_of is not None and k in ev.diag:
-            bad = ev.diag[k][0] < 0
-            if bad.any():
-                guides = guides_of(s)
-                out.append(
-                    f"dyad {s.kind} (step {k + 1}): guides {guides[0]} and {guides[1]} are "
-                    f"parallel at {int(bad.sum())} frame(s), first q = "
-                    f"{q[np.argmax(bad), 0]:.9g}: no intersection, values are null"
-                )
-    return out
-
-
-def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
-    """Runs of frames that do not assemble, with their q range; singular frames.
-
-    ``offset``: the number of ``r``'s first frame in the sweep (a streamed chunk).
-    """
-    if r.valid.all():
-        return []  # every frame valid (and so placed): no run to word
-    gap = ~r.placed if r.another_assembly is None else ~r.placed & ~r.another_assembly
-    out = [
-        _unassembled(r, line, i)
-        for line, i in zip(
-            _runs(r, gap, "no assembly for q in [{a}, {b}] (frames {i}..{j})", offset),
-            _run_starts(gap),
-            strict=True,
-        )
-    ]
-    out += _runs(
-        r,
-        r.placed & ~r.valid,
-        "singular position for q in [{a}, {b}] (frames {i}..{j}): the Jacobian with the drivers "
-        "fixed is singular; positions are given, velocities and accelerations are not (null)",
-        offset,
-    )
-    out += _beyond_gaps(r, offset)
-    return out
-
-
-def _beyond_gaps(r: KinematicsResult, offset: int = 0) -> list[str]:
-    """Frames past an interval that does not assemble: reached the other way round, or
-    another assembly (not reached), each run once."""
-    blocked = ~r.placed
-    if r.another_assembly is not None:
-        blocked &= ~r.another_assembly
-    if not blocked.any():
-        return []
-    out = []
-    # frames reached after a gap in the sweep's order: the driver turning the other way
-    first_gap = int(np.argmax(blocked))
-    later = r.placed.copy()
-    later[:first_gap] = False
-    out += _runs(
-        r,
-        later,
-        "frames {i}..{j} (q in [{a}, {b}]) lie past an interval that does not assemble: "
-        "reached from the reference with the driver turning the other way (the motion "
-        "cannot cross the gap; the driver rocks)",
-        offset,
-    )
-    if r.another_assembly is not None:
-        out += _runs(
-            r,
-            r.another_assembly,
-            "frames {i}..{j} (q in [{a}, {b}]) assemble again past an interval that does not "
-            "assemble, but no continuous motion from the reference reaches them: another "
-            "assembly, not reached; their values are null (positions under "
-            "another_assembly)",
-            offset,
-        )
-    return out
-
-
-def _run_starts(mask: npt.NDArray[np.bool_]) -> list[int]:
-    """The first frame of each run of ``mask``."""
-    edge = np.concatenate([[False], mask])
-    return [int(i) for i in np.flatnonzero(edge[1:] & ~edge[:-1])]
-
-
-def _unassembled(r: KinematicsResult, line: str, i: int) -> str:
-    """``line`` (a run of frames that do not assemble from frame ``i``) with what is null.
-
-    Where only some groups assemble (``r.partial``), the joints of the others are named:
-    the joints whose groups assemble keep their values.
-    """
-    if r.partial is None or not r.partial[i]:
-        return f"{line}; values are null"
-    missing = [j for j, v in r.joints.items() if not np.isfinite(v["x"][i])]
-    if len(missing) == len(r.joints):
-        return f"{line}; values are null"
-    return (
-        f"{line} of joints {', '.join(missing)}: their values are null; the groups that "
-        "assemble are given"
-    )
-
-
-def _runs(
-    r: KinematicsResult, mask: npt.NDArray[np.bool_], text: str, offset: int = 0
-) -> list[str]:
-    """``text`` for each run of frames in ``mask`` (``{a}``, ``{b}``: its q range)."""
-    edge = np.concatenate([[False], mask, [False]])
-    starts = np.flatnonzero(edge[1:] & ~edge[:-1])
-    ends = np.flatnonzero(~edge[1:] & edge[:-1]) - 1
-    return [
-        text.format(a=f"{r.q[i, 0]:.9g}", b=f"{r.q[j, 0]:.9g}", i=i + offset, j=j + offset)
-        for i, j in zip(starts, ends, strict=True)
-    ]
