@@ -546,13 +546,20 @@ def _past_a_hop(
         return 0
     x = np.concatenate([q_ref[:1], q_ref[0] + d[prefix, 0]])
     k = sol.t.shape[1]
-    K0 = subset_modes(K, prefix[:1])
+    K0 = subset_modes(K, prefix[:1]) if K is not None else None
+    if sol.modes:
+        K0 = {**(K0 or {}), **reference_modes(model, tuple(sol.modes))}
     d0 = tangent(model, q_ref[None, :], np.zeros((1, k)), K0, np.ones(1))
     t = np.concatenate([np.zeros((1, k)), sol.t[prefix]])
     slopes = np.concatenate([d0, sol.t1[prefix]])
     Kx: Modes | None = None
     if sol.modes:
-        Kx = {kk: np.concatenate([v[prefix[:1]], v[prefix]]) for kk, v in sol.modes.items()}
+        # the reference in its own modes (an inner dyad may flip before the first point)
+        ref = reference_modes(model, tuple(sol.modes))
+        Kx = {
+            kk: np.concatenate([np.array([ref[kk]], v.dtype), v[prefix]])
+            for kk, v in sol.modes.items()
+        }
     n = joined_along(model, x, t, slopes, Kx, tol)
     return int(prefix[n - 1]) if n <= prefix.size else got.size
 
