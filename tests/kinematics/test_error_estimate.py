@@ -115,3 +115,13 @@ def test_error_in_the_json_is_finite_or_null() -> None:
     for i, ok in enumerate(r.valid):
         assert (err["velocity"][i] is None) == (not ok)
     assert cmath.isfinite(max(x for x in err["position"] if x is not None))
+
+
+def test_subnormal_rates_are_warned_and_carried_by_the_estimate() -> None:
+    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=36, speed=1e-160)
+    assert any("subnormal" in w and "accelerations" in w for w in r.warnings)
+    assert r.error is not None
+    spacing = float(np.finfo(float).smallest_subnormal)
+    assert (r.error.acceleration >= spacing).all()
+    quiet = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=36, speed=1.0)
+    assert not any("subnormal" in w for w in quiet.warnings)

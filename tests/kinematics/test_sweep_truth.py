@@ -70,3 +70,25 @@ def test_sweeps_starting_next_to_a_fold(seed: int) -> None:
     m = near_fold(population(seed), 1e-4)
     assert m is not None and _planned(m)
     assert _both_ways(m, 36) == []
+
+
+def test_cli_json_of_a_mechanism_that_had_a_nan_sine(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    import json
+
+    from mjstruct.cli.main import main
+    from mjstruct.io import mechanism_to_dict
+
+    f = tmp_path / "m.json"
+    f.write_text(json.dumps(mechanism_to_dict(population(4))))
+    assert main(["kinematics", str(f), "--frames", "72", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert all(b["sine"] is not None for b in d["branch_points"] if b["kind"] == "mode flip")
+    assert set(d["error"]) == {"position", "velocity", "acceleration", "conditioning"}
+
+
+def test_a_rigid_dyad_is_said_once() -> None:
+    from mjstruct.kinematics.solver import kinematic_analysis
+
+    r = kinematic_analysis(population(7), frames=72)
+    rigid = [w for w in r.warnings if "rigid relative to the links it hangs on" in w]
+    assert len(rigid) == 1 and not any("near branch point" in w for w in r.warnings)
