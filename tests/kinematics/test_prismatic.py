@@ -407,3 +407,13 @@ def test_guides_parallel_along_the_motion_give_null_frames_and_a_warning(tmp_pat
     out = json.loads(capsys.readouterr().out)
     assert out["joints"]["X"]["x"][i] is None
     assert any("parallel" in w for w in out["warnings"])
+
+
+def test_a_pin_run_off_to_infinity_between_two_frames_stops_the_motion():
+    """No frame sits on q = π here: the guides' sign change between two frames is the wall."""
+    res = kinematic_analysis(tangent(0.2, math.pi / 4), frames=361)
+    q = res.q[:, 0]
+    assert not np.any(np.abs(np.sin(q)) < 1e-12)
+    inside = (np.mod(q, 2 * np.pi) > 0) & (np.mod(q, 2 * np.pi) < np.pi)
+    assert (res.valid == inside).all()
+    assert res.another_assembly is not None and (res.another_assembly == ~inside).all()

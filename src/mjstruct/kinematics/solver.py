@@ -197,7 +197,11 @@ def _not_reached(
         return
     turns = km.mechanism.joint(km.drivers[0]).kind == "R"
     walls = None
-    if sweep and r.q.shape[0] > 2:
+    # without closure unknowns every frame is solved on its own in the dyads' modes: a
+    # dyad's fold leaves a gap of frames that do not assemble; only a closure can hop
+    # over a fold, and a line-line dyad's pin run off to infinity between two frames
+    lines = any(st.step_kind.guides is not None for st in km.plan.steps)
+    if sweep and r.q.shape[0] > 2 and (r.closure is not None or lines):
         with np.errstate(all="ignore"):
             sign, _ = plan_determinant(motion)
         quiet = np.zeros(r.q.shape[0], bool)
