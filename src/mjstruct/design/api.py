@@ -84,4 +84,27 @@ def synthesize(
         problem = motion_problem(t)
     from mjstruct.design.search import solve
 
-    return solve(problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress)
+    result = solve(
+        problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress
+    )
+    _final_verdict(t, result, max(360, 4 * int(getattr(problem, "samples", 90))))
+    return result
+
+
+def _final_verdict(task: Task, result: DesignResult, frames: int) -> None:
+    """Refuse a result that breaks a promise of the contract, judged from the design as
+    it will be written (:func:`mjstruct.design.verify.final_verdict`)."""
+    import json
+
+    from mjstruct.design.verify import final_verdict
+    from mjstruct.errors import NumericalError
+    from mjstruct.io import mechanism_from_dict, mechanism_to_dict
+
+    written = mechanism_from_dict(json.loads(json.dumps(mechanism_to_dict(result.mechanism))))
+    timing = result.details.get("timing", [])
+    offset = float(result.details.get("angle_offset", 0.0))
+    broken = final_verdict(task, written, timing, result.errors, offset, frames)
+    if broken:
+        raise NumericalError(
+            f"no feasible design: the final verdict refused the best ({broken[0]})"
+        )
