@@ -118,3 +118,50 @@ def test_a_lone_surrogate_is_bad_input_not_a_crash(tmp_path, capsys):
     src.write_text(text)
     status, err = _run(capsys, ["convert", src, "-o", tmp_path / "m.toml"])
     assert status == 2 and "name: holds a lone UTF-16 surrogate" in err
+
+
+def _cpu(pid: int) -> float:
+    import os
+
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return sum(int(x) for x in fields[11:13]) / os.sysconf("SC_CLK_TCK")
+
+
+def test_sigint_stops_a_large_population_at_once_with_one_worker(tmp_path):
+    # B8: one evaluation over the whole screened population (300 001 candidates x 72
+    # frames) held the interrupt for seconds; chunks of 50 000 frames let it land
+    import resource
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from project_paths import ROOT
+
+    task = _task(tmp_path)
+    data = json.loads(task.read_text())
+    data.pop("timing")
+    data["solver"] = {"population": 3000, "restarts": 1}
+    task.write_text(json.dumps(data))
+    env = {**__import__("os").environ, "PYTHONPATH": str(ROOT / "src")}
+    out = tmp_path / "o.json"
+    proc = subprocess.Popen([sys.executable, "-m", "mjstruct", "synthesize", str(task), "-o",
+                             str(out)], stderr=subprocess.PIPE, env=env)  # fmt: skip
+    try:
+        deadline = time.monotonic() + 120
+        while _cpu(proc.pid) < 3.0:  # past the imports, into the screening
+            assert proc.poll() is None and time.monotonic() < deadline
+            time.sleep(0.05)
+        used = _cpu(proc.pid)
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    total = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    assert proc.returncode == 130 and err.decode().endswith("mjstruct: interrupted\n")
+    assert total - used < 1.0, (total, used)
+    assert not out.exists()

@@ -41,6 +41,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--mj", action="store_true", help="with --atlas: chains with multiple joints too"
     )
+    p.add_argument(
+        "--max-memory",
+        type=int,
+        metavar="BYTES",
+        help="refuse searches estimated above this (default $MJSTRUCT_MAX_MEMORY_BYTES or 2 GiB)",
+    )
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
 
@@ -61,6 +67,10 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.targets_chart, FIGURE_SUFFIXES, name="--targets-chart")
     if args.mj and args.atlas is None:
         raise MechanismError("--mj: needs --atlas")
+    if args.max_memory is not None and args.max_memory <= 0:
+        raise MechanismError(
+            f"--max-memory: must be a positive number of bytes, got {args.max_memory}"
+        )
     data = read_task_data(args.task)  # once: the task may come from standard input
     _check_task_outputs(args, data)
     if args.atlas is not None:
@@ -69,7 +79,12 @@ def run(args: argparse.Namespace) -> int:
     bar = ProgressBar.for_cli(f"synthesize {task.kind}", args.json)
     with flag_names(workers="--workers", scheduler="--scheduler", seed="--seed"):
         result = synthesize(
-            task, seed=args.seed, workers=args.workers, scheduler=args.scheduler, progress=bar
+            task,
+            seed=args.seed,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=bar,
+            max_memory=args.max_memory,
         )
     _write_outputs(args, result)
     if args.json:
@@ -116,6 +131,7 @@ def _run_atlas(args: argparse.Namespace, data: dict[str, Any]) -> int:
             workers=args.workers,
             scheduler=args.scheduler,
             progress=bar,
+            max_memory=args.max_memory,
         )
     best = r.best
     if best is None:

@@ -45,6 +45,7 @@ def synthesize(
     workers: int = 1,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
+    max_memory: int | None = None,
 ) -> DesignResult:
     """Synthesise the mechanism a task asks for.
 
@@ -55,11 +56,14 @@ def synthesize(
     workers : processes for the independent restarts (at most the number of cores).
     scheduler : a Dask scheduler address to run the restarts on instead.
     progress : called as ``progress(done, total)`` while the search runs.
+    max_memory : the limit (bytes) on the search's estimated memory (default 2 GiB, or
+        the environment variable ``MJSTRUCT_MAX_MEMORY_BYTES``).
 
     Raises
     ------
     MechanismError
-        bad task input (one line naming the field).
+        bad task input (one line naming the field), or a search whose estimated
+        memory exceeds the limit (naming the task field that needs it).
     NumericalError
         no feasible design was found (``no feasible design: ...``).
     """
@@ -82,8 +86,10 @@ def synthesize(
         from mjstruct.design.motion import motion_problem
 
         problem = motion_problem(t)
+    from mjstruct.design.memory import check_synthesis_memory
     from mjstruct.design.search import solve
 
+    check_synthesis_memory(problem, t.solver, max_memory)
     result = solve(
         problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress
     )

@@ -52,6 +52,7 @@ from mjstruct.design.constraints import (
     link_pairs,
 )
 from mjstruct.design.matching import match_indices, ordered_match
+from mjstruct.design.memory import assess_in_chunks, chunk_rows
 from mjstruct.design.population import DesignSpace, Population
 from mjstruct.design.result import SYNTHESIS_KEY
 from mjstruct.design.search import PENALTY, Assessment, FitProblem, Outcome
@@ -239,7 +240,10 @@ class TrackProblem(FitProblem):
 
     # -- global stage ---------------------------------------------------------------------
     def assess(self, X: FloatArray) -> Assessment:
-        X = np.atleast_2d(X)
+        # a bounded number of frames at a time: bounded memory, prompt interrupts
+        return assess_in_chunks(self._assess, np.atleast_2d(X), chunk_rows(self))
+
+    def _assess(self, X: FloatArray) -> Assessment:
         Xg = X[:, : self.ng]
         qoff, aoff = self._offsets(X)
         qt = self._timing(qoff)
