@@ -103,7 +103,7 @@ def _size(n: int) -> str:
 
 def _decode(data: bytes, source: str) -> str:
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8-sig")  # a byte-order mark, as some editors write, is no text
     except UnicodeDecodeError:
         raise MechanismError(f"{source}: cannot read (not UTF-8 text)") from None
 

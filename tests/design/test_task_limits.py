@@ -3,6 +3,7 @@ left to design: bad input naming the field, before any search (issue 37 A2, B9).
 
 from __future__ import annotations
 
+import json
 import warnings
 
 import pytest
@@ -58,3 +59,52 @@ def test_values_within_the_limits_are_accepted():
     assert t.timing is not None and t.targets.shape == (3, 2)
     t = task_from_dict(_task(fixed=["O1", "A", "B", "O2"]))  # the point is still free
     assert t.fixed == ("O1", "A", "B", "O2")
+
+
+@pytest.mark.parametrize(
+    ("task", "field", "words"),
+    [  # issue 37 C14: messages that named the wrong field or gave a wrong range
+        ({"ms": "MS4", "frame_length": 1e300}, "frame_length", "outside the sizes analysed"),
+        ({"ms": "MS4", "coupler_point": [1e300, 0.0]}, "coupler_point", "1e+08 sizes"),
+        (
+            {"change_point": "4.2", "swing_deg": 180},
+            "swing_deg",
+            "180 deg is an end of that range, approached but not reached",
+        ),
+        (
+            {"change_point": "4.2", "time_ratio": 1e300},
+            "time_ratio",
+            "those there give about 3 to 5",
+        ),
+        (
+            {"change_point": "4.3", "swing_deg": 240, "time_ratio": 1e300},
+            "time_ratio",
+            "those there give about 1.0",
+        ),
+    ],
+)
+def test_fourbar_ms_messages_name_the_field_and_the_reachable_range(task, field, words):
+    with pytest.raises(MechanismError) as exc:
+        synthesize({"task": "fourbar-ms", **task})
+    message = str(exc.value)
+    assert message.startswith(f"{field}: ") and words in message, message
+
+
+def test_a_json_task_with_a_byte_order_mark_is_read_and_broken_json_is_called_json(tmp_path):
+    from mjstruct.design.task import read_task
+
+    m = mechanism_to_dict(read_mechanism(EXAMPLES / "four-bar.json"))
+    body = json.dumps({"task": "path", "mechanism": m, "point": "M", "targets": TARGETS})
+    path = tmp_path / "t.json"
+    path.write_bytes(b"\xef\xbb\xbf" + body.encode())
+    assert read_task(path).kind == "path"  # was "not valid TOML"
+    for broken in ('{"task": "path",}', "[1, 2", "task = path"):
+        path.write_text(broken)
+        with pytest.raises(MechanismError, match="not valid JSON"):
+            read_task(path)
+    toml = tmp_path / "t.toml"
+    toml.write_bytes(b"\xef\xbb\xbf" + b'task = "fourbar-ms"\nms = "MS4"\n')
+    assert read_task(toml).kind == "fourbar-ms"
+    mech = tmp_path / "m.json"
+    mech.write_bytes(b"\xef\xbb\xbf" + (EXAMPLES / "four-bar.json").read_bytes())
+    assert read_mechanism(mech).name == "four-bar"

@@ -209,10 +209,14 @@ def _read_data(path: str | Path) -> tuple[Any, Path, str]:
     if len(raw) > MAX_FILE_BYTES:
         raise MechanismError(f"{source}: larger than {MAX_FILE_BYTES} bytes")
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte-order mark, as some editors write, is no text
     except UnicodeDecodeError:
         raise MechanismError(f"{source}: cannot read (not UTF-8 text)") from None
-    is_toml = not text.lstrip().startswith("{")
+    suffix = Path(source).suffix.lower()
+    if suffix in (".json", ".toml"):  # the name says which (a broken .json is broken JSON)
+        is_toml = suffix == ".toml"
+    else:
+        is_toml = not text.lstrip().startswith(("{", "["))
     try:
         data = tomllib.loads(text) if is_toml else json.loads(text)
     except json.JSONDecodeError as exc:
