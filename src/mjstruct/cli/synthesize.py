@@ -246,9 +246,33 @@ def render(
             value = details[key]
             shown = _num(value, ".4g") if isinstance(value, float) else str(value)
             lines.append(f"  {label}: {shown}")
+    lines += _singular_lines(details.get("singular"))
     lines.append(f"wrote {output} (the designed mechanism; its targets under 'synthesis')")
     if chart is not None:
         lines.append(f"wrote {chart} (objective against evaluations and time)")
     if targets_chart is not None:
         lines.append(f"wrote {targets_chart} (the design, its traced path and the targets)")
     return "\n".join(lines)
+
+
+def _singular_lines(singular: dict[str, Any] | None) -> list[str]:
+    """The built mechanism's singular positions and fold arcs with their classes of
+    [Four-bar clearances] (a ``fourbar-ms`` result; none for the other tasks)."""
+    if not singular:
+        return []
+    out = ["  singular positions (input angle in deg, class of [Four-bar clearances]):"]
+    for p in singular["singular"]:
+        c = p.get("classification") or {}
+        out.append(f"    {p['kind']:<15} {_turn_deg(p['q']):9.4f}  {c.get('notation', '-')}")
+    for a in singular["fold_arcs"]:
+        c = a.get("classification") or {}
+        start = _turn_deg(a["q_from"])
+        span = f"{start:.4f} to {start + math.degrees(a['q_to'] - a['q_from']):.4f}"
+        what = "locked input" if a["kind"] == "input_limit" else "dwell"
+        out.append(f"    fold arc ({what}) {span}  {c.get('notation', '-')}")
+    return out
+
+
+def _turn_deg(q: float) -> float:
+    """An angle (rad) in degrees within one turn, to 1e-4 (2 pi is 0)."""
+    return round(math.degrees(q), 4) % 360.0

@@ -13,7 +13,7 @@ shown, and the picture as PNG.  It answers the two changes a slider makes:
   as a slider's block, with it); its kinematic model keeps the plan (the same
   topology and drivers, so only the geometry is read again); the cycle is solved
   again, the singular positions found again
-  (:func:`~mjstruct.kinematics.singular.singular_analysis`), and the artists are set
+  (:func:`~mjstruct.singular.analysis.singular_analysis`), and the artists are set
   to the new scene in place (a new figure only when the mechanism leaves the axes).
 
 The strip below the drawing spans the driver's range (a revolute driver: 0 to 360°):
@@ -65,7 +65,8 @@ from mjstruct.plot.layout import drawing_figure
 from mjstruct.plot.style import DRIVER_COLOUR
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.singular import SingularAnalysis, SingularPosition
+    from mjstruct.singular.analysis import SingularAnalysis, SingularPosition
+    from mjstruct.singular.classification import SingularClass
 
 #: height (inches) of the strip of the driver's range below the drawing
 STRIP = 0.62
@@ -449,13 +450,24 @@ class ExplorerView:
                 lines.append(f"assembles on {n} of the cycle's {self.frames} frames")
         if r is not None and r.singular:
             ordered = sorted(r.singular, key=lambda p: self.display(p.q))
-            words = ", ".join(f"{KIND_WORDS[p.kind]} at {self.text(p.q)}" for p in ordered)
+            words = ", ".join(
+                f"{KIND_WORDS[p.kind]} at {self.text(p.q)}{_notation(p.classification)}"
+                for p in ordered
+            )
             lines.append(f"singular positions: {words}")
         elif r is not None:
             lines.append("no singular positions")
         else:
             lines.append(self.singular_note)
         if r is not None:
+            for a in r.fold_arcs:
+                what = "input locked" if a.kind == "input_limit" else "output dwells"
+                span = (
+                    f"at {self.text(a.q_from)}"
+                    if a.q_to == a.q_from
+                    else f"from {self.text(a.q_from)} to {self.text(a.q_to)}"
+                )
+                lines.append(f"fold arc: {what} {span}{_notation(a.classification)}")
             lines += [f"singular analysis: {w}" for w in r.warnings]
         if not self.assembles:
             lines.append(f"at {d} = {self.text(float(self.q[0]))} the mechanism does not assemble")
@@ -463,9 +475,14 @@ class ExplorerView:
         return lines
 
 
+def _notation(c: SingularClass | None) -> str:
+    """`` (II/B//П)``: the class of [Four-bar clearances] in brackets, or nothing."""
+    return "" if c is None else f" ({c.notation})"
+
+
 def _singular(mechanism: Mechanism) -> tuple[SingularAnalysis | None, str]:
     """The singular analysis of ``mechanism``, or None and why it has none."""
-    from mjstruct.kinematics.singular import singular_analysis
+    from mjstruct.singular.analysis import singular_analysis
 
     try:
         with warnings.catch_warnings():

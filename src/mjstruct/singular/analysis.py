@@ -2,7 +2,7 @@
 
 Owns the analysis behind ``mjstruct singular``: along every branch of the
 configuration curve through the reference (continued through change points, traced
-by :mod:`mjstruct.kinematics.singular_curve`) it finds
+by :mod:`mjstruct.singular.curve`) it finds
 
 * **input limits**: the Jacobian minor without the input column vanishes (the input
   stops and reverses; four-bar: coupler in line with the output),
@@ -14,7 +14,7 @@ by :mod:`mjstruct.kinematics.singular_curve`) it finds
 each located by root refinement (Brent's method on the tangent's input or output
 component; a Gauss-Newton system for change points), with the joints in line there,
 the clearance zone of each collinear pair, the input's range and, for a four-bar,
-the closed-form theory of :mod:`mjstruct.kinematics.fourbar`.  A branch along which
+the closed-form theory of :mod:`mjstruct.singular.fourbar`.  A branch along which
 a minor vanishes identically (a joint sitting on another over a range: MS2's dwell,
 MS5's locked input) is a fold arc, named in the warnings.
 
@@ -38,30 +38,18 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError, NumericalError
-from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
-from mjstruct.kinematics.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.kinematics.jacobian import one_blas_thread
-from mjstruct.kinematics.singular_curve import (
-    MAX_STEP,
-    Bifurcation,
-    Branch,
-    ClosureEquations,
-    correct_many,
-    point_on_step,
-    tangents,
-    trace_component,
-    wrap_delta,
-)
 from mjstruct.kinematics.tolerances import (
     AT_CHANGE_POINT,
     COINCIDE_ALONG,
@@ -79,8 +67,33 @@ from mjstruct.kinematics.tolerances import (
 )
 from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.output_numbers import json_number
+from mjstruct.singular.classification import (
+    SingularClass,
+    classify_fold_arc,
+    classify_position,
+    fold_arc_theta,
+    singular_group_class,
+    theta_of_zones,
+    theta_without_pair,
+)
+from mjstruct.singular.clearance import exact_zone, formula3, leading_order_zone
+from mjstruct.singular.curve import (
+    MAX_STEP,
+    Bifurcation,
+    Branch,
+    ClosureEquations,
+    correct_many,
+    point_on_step,
+    tangents,
+    trace_component,
+    wrap_delta,
+)
+from mjstruct.singular.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.structure.mobility import dof_grubler
 from mjstruct.typing import FloatArray
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.result import KinematicsResult
 
 KINDS = ("input_limit", "output_extreme", "change_point")
 
@@ -143,7 +156,9 @@ class SingularPosition:
         clearance).
     configuration : the link coordinates there (``x, y, phi`` of each moving link,
         lengths over the mechanism's size), as
-        :class:`~mjstruct.kinematics.singular_curve.ClosureEquations` numbers them.
+        :class:`~mjstruct.singular.curve.ClosureEquations` numbers them.
+    classification : its type and trap of [Four-bar clearances]
+        (:mod:`mjstruct.singular.classification`).
     """
 
     kind: str
@@ -153,6 +168,7 @@ class SingularPosition:
     pairs: tuple[tuple[str, str], ...]
     zone: tuple[Zone, ...] | None = None
     configuration: tuple[float, ...] = field(default=(), repr=False, compare=False)
+    classification: SingularClass | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
@@ -163,6 +179,9 @@ class SingularPosition:
         }
         if self.zone is not None:
             d["zone"] = [z.to_dict() for z in self.zone]
+        d["classification"] = (
+            None if self.classification is None else self.classification.to_dict()
+        )
         return d
 
 
@@ -179,6 +198,7 @@ class FoldArc:
         ``q_from`` in [q_ref, q_ref + 2 pi) for a revolute driver, ``q_to >= q_from``.
     joints : ids of the joints that sit on another along the arc (file order).
     output_angle : the dwell angle of the output (``None`` for a locked input).
+    classification : its type and trap of [Four-bar clearances] (III/C or IV/D).
     """
 
     kind: str
@@ -186,15 +206,20 @@ class FoldArc:
     q_to: float
     joints: tuple[str, ...]
     output_angle: float | None
+    classification: SingularClass | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        d: dict[str, Any] = {
             "kind": self.kind,
             "q_from": json_number(self.q_from),
             "q_to": json_number(self.q_to),
             "joints": list(self.joints),
             "output_angle": json_number(self.output_angle),
         }
+        d["classification"] = (
+            None if self.classification is None else self.classification.to_dict()
+        )
+        return d
 
 
 @dataclass(frozen=True)
@@ -420,6 +445,7 @@ def _analyse(
 
     found: list[tuple[str, FloatArray]] = [("change_point", b.x) for b in bifs]
     fold_arcs: list[FoldArc] = []
+    unclassified: set[int] = set()
     q_spans: list[tuple[float, float, bool]] = []
     for br in branches:
         qs, gq = eq.inputs(br.x)
@@ -431,7 +457,10 @@ def _analyse(
         if fold_in or fold_out:
             same = _coinciding(eq, br)
             warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0])), same))
-            fold_arcs += _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
+            arcs = _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
+            if fold_in and fold_out:  # neither moves: no type of the classification
+                unclassified.update(id(a) for a in arcs)
+            fold_arcs += arcs
         for kind, comp, fold, grad in (
             ("input_limit", dq, fold_in, eq.inputs),
             ("output_extreme", do, fold_out, eq.outputs),
@@ -460,23 +489,34 @@ def _analyse(
         if not any(_near(eq, x, y, SAME_POINT) for _, y in unique):
             unique.append((kind, x))
     positions = []
+    groups = _group_classes(m) if any(k == "input_limit" for k, _ in unique) else None
     for kind, x in unique:
         coll, triples = _collinear(eq, x)
         pairs = tuple(dict.fromkeys((a, b) for a, b, *_ in triples if m.frame not in (a, b)))
         zone = None
+        theta = None
         if clearance is not None:
             zone, notes = _zones(eq, x, kind, triples, clearance, fb is not None, exact)
             where = f"{kind} q = {qwrap(eq.input(x)[0]):.9g}"
             warnings += [f"exact zone at the {where}: {n}" for n in notes]
+            theta = theta_of_zones([z.psi for z in zone])
+            if not pairs:  # no pair in line (an Assur point): the link turning most
+                held = "output" if kind == "output_extreme" else "input"
+                theta = theta_without_pair(eq, x, held, clearance)
+        q = float(qwrap(eq.input(x)[0]))
+        klass = None
+        if kind == "input_limit" and groups is not None:
+            klass = singular_group_class(eq, x, groups)
         positions.append(
             SingularPosition(
                 kind,
-                float(qwrap(eq.input(x)[0])),
+                q,
                 _half_turn(eq.output_angle(x)),
                 coll,
                 pairs,
                 zone,
                 tuple(float(v) for v in x),
+                classify_position(kind, q, pairs, theta, klass),
             )
         )
     # positions equal to rounding sort alike whichever branch met them first
@@ -490,6 +530,20 @@ def _analyse(
         )
     )
     rng = _input_range(q_spans, q_ref, revolute)
+    fold_arcs = [
+        a
+        if id(a) in unclassified
+        else dataclasses.replace(
+            a,
+            classification=classify_fold_arc(
+                a.kind,
+                a.q_from,
+                a.q_to,
+                fold_arc_theta(a.joints, m.link_joints, eq.geometry.centres, clearance),
+            ),
+        )
+        for a in fold_arcs
+    ]
     return SingularAnalysis(
         driver,
         eq.output_link,
@@ -503,6 +557,16 @@ def _analyse(
         fb_out,
         tuple(sorted(fold_arcs, key=lambda a: (round(a.q_from, 9), round(a.q_to, 9), a.kind))),
     )
+
+
+def _group_classes(m: Mechanism) -> list[tuple[tuple[str, ...], int]] | None:
+    """Each Assur group's links and class in solving order (None: no decomposition)."""
+    from mjstruct.structure.assur import assur_groups
+
+    try:
+        return [(g.links, g.klass) for g in assur_groups(m).groups]
+    except MechanismError:
+        return None
 
 
 def _sign_changes(comp: FloatArray) -> list[tuple[int, bool]]:
@@ -752,7 +816,7 @@ def _other(fixed: str) -> str:
 
 
 def _direction(eq: ClosureEquations, x: FloatArray, fixed: str) -> tuple[FloatArray, FloatArray]:
-    from mjstruct.kinematics.clearance import singular_direction
+    from mjstruct.singular.clearance import singular_direction
 
     return singular_direction(eq, x, fixed)
 
@@ -823,3 +887,33 @@ def classify_singular_frames(
                     best = key
         out.append(None if best is None else KINDS[-best[1]])
     return out
+
+
+#: the kinematics' flagged frames are named for mechanisms up to this many links (the
+#: analysis traces the curve with dense SVDs: 0.1-0.4 s up to 16 links, 6.4 s at 62)
+KINDS_MAX_LINKS = 16
+
+
+def name_flagged_frames(r: KinematicsResult, frames: npt.NDArray[np.intp]) -> list[str | None]:
+    """Kind of the singular position at each flagged frame of a kinematics result.
+
+    What the kinematics' near-singular check calls (installed by the package through
+    :func:`mjstruct.kinematics.checks.set_singular_namer`): from
+    :func:`singular_analysis` (one driver, F = 1; its positions are located to 1e-9
+    in q) within one frame step of each frame; only up to :data:`KINDS_MAX_LINKS`
+    links, None where not identified.
+    """
+    none: list[str | None] = [None] * len(frames)
+    drivers = r.plan.drivers
+    if len(drivers) != 1 or len(r.mechanism.links) > KINDS_MAX_LINKS:
+        return none
+    m = r.mechanism
+    if tuple(m.drivers) != drivers:
+        m = dataclasses.replace(m, drivers=drivers)
+    try:
+        a = singular_analysis(m)
+    except (MechanismError, NumericalError):
+        return none
+    q = r.q[:, 0]
+    step = float(np.abs(np.diff(q)).max()) if q.size > 1 else 2 * np.pi
+    return classify_singular_frames(a, q[frames], tol=step)
