@@ -235,7 +235,7 @@ def final_verdict(
     """
     from mjstruct.design.constraints import fourbar_lengths, link_pairs
     from mjstruct.design.task import is_fourbar
-    from mjstruct.kinematics.fourbar import fourbar_theory
+    from mjstruct.singular.fourbar import fourbar_theory
 
     start = task.mechanism
     assert start is not None
