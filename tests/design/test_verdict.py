@@ -121,3 +121,18 @@ def test_duplicate_untimed_targets_come_back_at_one_driver_value():
     timing = r.details["timing"]
     assert timing[1] == timing[2] and r.errors[1] == r.errors[2]
     assert _in_order(timing)
+
+
+def test_the_fourbar_ms_verdict_rechecks_the_written_geometry():
+    from mjstruct.design.fourbar_ms import synthesize_fourbar_ms
+    from mjstruct.design.verify import fourbar_ms_verdict
+    from mjstruct.io import mechanism_from_dict
+
+    r = synthesize_fourbar_ms({"task": "fourbar-ms", "change_point": "4.2", "swing_deg": 141.0576})
+    d = r.details
+    swing = math.radians(141.0576)
+    assert fourbar_ms_verdict(r.mechanism, d["motion"], d["system4"], 2, swing) == []
+    moved = mechanism_to_dict(r.mechanism)
+    moved["joints"][2]["at"] = [v * 1.01 for v in moved["joints"][2]["at"]]  # B off its place
+    broken = fourbar_ms_verdict(mechanism_from_dict(moved), d["motion"], d["system4"], 2, swing)
+    assert broken and broken[0].startswith(("change_point", "swing_deg", "motion"))

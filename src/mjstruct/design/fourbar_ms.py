@@ -795,6 +795,18 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
     mech = fourbar_mechanism(ms, frame_length, reference_deg, assembly, coupler, label)
     if description is not None:  # the task's own words replace the generated line
         mech = dataclasses.replace(mech, extra={**mech.extra, "description": description})
+    from mjstruct.design.verify import fourbar_ms_verdict
+
+    broken = fourbar_ms_verdict(
+        mech,
+        fb.motion,
+        fb.system4,
+        None if requirement is None else requirement.line,
+        None if requirement is None else requirement.swing,
+        None if requirement is None else requirement.time_ratio,
+    )
+    if broken:
+        raise NumericalError(f"fourbar-ms: the final verdict refused the four-bar ({broken[0]})")
     analysis = singular_analysis(mech, clearance=clearance)
     built = fb  # the matrix's own numbers (the file's coordinates round them)
 

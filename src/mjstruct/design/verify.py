@@ -318,3 +318,46 @@ def _errors(task: Task, check: MotionCheck, size: float, angle_offset: float) ->
         sq += (weight * diff) ** 2
     out: FloatArray = np.sqrt(sq)
     return out
+
+
+def fourbar_ms_verdict(
+    m: Mechanism,
+    motion: str,
+    system4: Sequence[int],
+    line: int | None = None,
+    swing: float | None = None,
+    time_ratio: float | None = None,
+) -> list[str]:
+    """What a ``fourbar-ms`` result promises, re-checked from its written geometry: the
+    kinematics builds and assembles it at its reference configuration, and the four
+    lengths its joint centres give are a four-bar of the ``motion`` reported, on the
+    lines ``system4`` of system (4) (the required ``line`` among them), with the
+    required ``swing`` (rad) and ``time_ratio`` (to 1e-6).  Empty: it keeps them."""
+    from mjstruct.design.constraints import fourbar_lengths
+    from mjstruct.singular.fourbar import fourbar_theory
+
+    try:
+        model = KinematicModel.build(m)
+    except MechanismError as exc:
+        return [f"the written four-bar has no kinematic model ({exc})"]
+    if not model.motion(model.q_ref[None, :], order=0).valid.all():
+        return ["the written four-bar does not assemble at its reference configuration"]
+    where = {j.id: np.array([complex(*j.at)]) for j in m.joints if j.at is not None}
+    L = fourbar_lengths(m, where)
+    crank, coupler, rocker, frame = (float(L[k][0]) for k in "abcd")
+    try:
+        fb = fourbar_theory(crank / frame, coupler / frame, rocker / frame)
+    except MechanismError as exc:
+        return [f"the written four-bar cannot move ({exc})"]
+    out = []
+    if fb.motion != motion:
+        out.append(f"motion: the written four-bar is a {fb.motion}, not a {motion}")
+    if tuple(fb.system4) != tuple(system4) or (line is not None and line not in fb.system4):
+        out.append(f"change_point: the written four-bar lies on (4.k) for k in {fb.system4}")
+    for name, want, got in (
+        ("swing_deg", swing, fb.swing),
+        ("time_ratio", time_ratio, fb.time_ratio),
+    ):
+        if want is not None and (got is None or abs(got - want) > 1e-6 * max(1.0, abs(want))):
+            out.append(f"{name}: the written four-bar gives {got}")
+    return out
