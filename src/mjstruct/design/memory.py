@@ -43,14 +43,17 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
-from mjstruct.design.search import SCREEN, Assessment
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.memory import MEMORY_ENV, memory_limit, sweep_bytes
 from mjstruct.typing import FloatArray
+
+#: an assessment of a population: ``energy`` and ``margins`` per candidate
+#: (:class:`mjstruct.design.search.Assessment`)
+A = TypeVar("A")
 
 #: frames of one chunk of a population judged at once (about 40 ms for a four-bar)
 CHUNK_FRAMES = 50_000
@@ -84,18 +87,16 @@ def chunk_rows(problem: Any) -> int:
     return max(1, min(CHUNK_FRAMES // max(frames, 1), CHUNK_COSTS // max(costs, 1)))
 
 
-def assess_in_chunks(
-    assess: Callable[[FloatArray], Assessment], X: FloatArray, rows: int
-) -> Assessment:
+def assess_in_chunks(assess: Callable[[FloatArray], A], X: FloatArray, rows: int) -> A:
     """``assess`` on ``rows`` candidates of ``X`` at a time, the answers joined (each
     candidate is judged on its own, so the answer is the one of a single call)."""
     X = np.atleast_2d(X)
     if len(X) <= rows:
         return assess(X)
-    parts = [assess(X[k : k + rows]) for k in range(0, len(X), rows)]
+    parts: list[Any] = [assess(X[k : k + rows]) for k in range(0, len(X), rows)]
     energy = np.concatenate([p.energy for p in parts])
     margins = {name: np.concatenate([p.margins[name] for p in parts]) for name in parts[0].margins}
-    return Assessment(energy, margins)
+    return cast(A, type(parts[0])(energy, margins))
 
 
 def synthesis_bytes(problem: Any, solver: Mapping[str, int | float]) -> dict[str, int]:
@@ -104,18 +105,21 @@ def synthesis_bytes(problem: Any, solver: Mapping[str, int | float]) -> dict[str
     evolution's arrays), ``solver.samples`` (a chunk of frames, or the local stage's
     Jacobian evaluation), ``targets`` (a chunk's target costs, or the local stage's
     Jacobian in least squares)."""
-    from mjstruct.design.search import LOCAL_STARTS
+    from mjstruct.design import search
 
+    # the search's own numbers (wherever the search keeps them)
+    screen_per_member = int(getattr(search, "SCREEN", 10))
+    local_starts = int(getattr(search, "LOCAL_STARTS", 4))
     n, T, S, timed = _shape(problem)
     model = problem.space.model
     members = max(int(solver["population"]) * n, 5)
-    screen = SCREEN * members + len(problem.starts())
+    screen = screen_per_member * members + len(problem.starts())
     per_candidate = S + (T if timed else 0)
     rows = min(chunk_rows(problem), screen)
     frames = sweep_bytes(model, rows * per_candidate, checks=False)
     costs = COST_BYTES * rows * T * (T if timed else S)
     columns = n + (0 if timed else T)
-    jacobian = JACOBIAN_COPIES * 8 * (3 * T + LOCAL_STARTS) * columns
+    jacobian = JACOBIAN_COPIES * 8 * (3 * T + local_starts) * columns
     local_frames = sweep_bytes(model, 2 * (2 * n + 1) * (T + S), checks=False)
     population = SCREEN_BYTES * screen * n + MEMBER_BYTES * members * n
     return {
