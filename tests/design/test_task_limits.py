@@ -108,3 +108,13 @@ def test_a_json_task_with_a_byte_order_mark_is_read_and_broken_json_is_called_js
     mech = tmp_path / "m.json"
     mech.write_bytes(b"\xef\xbb\xbf" + (EXAMPLES / "four-bar.json").read_bytes())
     assert read_mechanism(mech).name == "four-bar"
+
+
+def test_two_timed_targets_at_one_driver_value_must_be_one_target():
+    with pytest.raises(MechanismError, match=r"^timing\[2\]: the driver value of timing\[0\]"):
+        task_from_dict(_task(timing=[1.0, 2.0, 1.0]))
+    t = task_from_dict(_task(targets=[TARGETS[0], TARGETS[1], TARGETS[0]], timing=[1.0, 2.0, 1.0]))
+    assert t.timing is not None  # the same target twice is one target
+    m = mechanism_to_dict(read_mechanism(EXAMPLES / "four-bar.json"))
+    with pytest.raises(MechanismError, match=r"^targets\[1\]: "):
+        task_from_dict({"task": "function", "mechanism": m, "targets": [[0, 0], [0, 1]]})

@@ -620,6 +620,25 @@ def _check_magnitudes(task: Task) -> None:
             )
 
 
+def _check_distinct_timing(task: Task) -> None:
+    """Two timed targets at one driver value must be one target: a design is in one
+    place at a driver value (a timing near 1e300 put two targets at one q)."""
+    if task.kind == "function":
+        q, field = task.targets[:, 0], "targets"
+    elif task.timing is not None:
+        q, field = task.timing, "timing"
+    else:
+        return
+    first: dict[float, int] = {}
+    for j, v in enumerate(q):
+        i = first.setdefault(float(v), j)
+        if i != j and not np.array_equal(task.targets[i], task.targets[j]):
+            raise MechanismError(
+                f"{field}[{j}]: the driver value of {field}[{i}] with another target "
+                "(no design is in two places at one driver value)"
+            )
+
+
 def _check_free(task: Task) -> None:
     """Something left to design: a joint, or the point of interest, that is not fixed."""
     m = task.mechanism
@@ -639,6 +658,7 @@ def _check_consistent(task: Task) -> None:
     m = task.mechanism
     assert m is not None
     _check_magnitudes(task)
+    _check_distinct_timing(task)
     _check_free(task)
     centres = {j.id: j.at for j in m.joints} | {p.id: p.at for p in m.points}
     for jid in task.fixed:
