@@ -5,7 +5,8 @@ joint, guide lines (hatched on the frame), binary links as bars, ternary and hig
 links as filled polygons of their joint centres (a straight one as a bar), revolute
 joints as pins (a multiple joint with one dot per link on a ring), prismatic joints
 as blocks, the driver's arc or arrow, joint and link labels, points of interest, the
-traced paths and the links' colours (by Assur group on that layer).
+traced paths and the links' colours (by Assur group on that layer); gears through
+:mod:`mjstruct.plot.gear_artists`.
 
 :class:`SchemeArtists` builds these artists once on an axes and moves them to a
 frame (:meth:`SchemeArtists.show`), so an animation updates their data instead of
@@ -20,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mjstruct.plot.gear_artists import gear_artists
 from mjstruct.plot.placement import clearance, free_direction
 from mjstruct.plot.scene import (
     Scene,
@@ -171,6 +173,9 @@ class SchemeArtists:
                 self._pin(j.id)
             else:
                 self._block(j.id)
+        if m.extra.get("gears"):
+            for artists, update in gear_artists(ax, model, scene.motion.evaluation.poses):
+                self._add(artists, update)
         for d in model.drivers:
             self._driver(d)
         self._labels()
