@@ -182,11 +182,14 @@ class FullSystem:
 
 @dataclass(frozen=True)
 class Reached:
-    """One frame the continuation reached: the joint centres and J_x's smallest singular
-    value there (relative to the largest)."""
+    """One frame the continuation reached: the joint centres, J_x's smallest singular
+    value there (relative to the largest) and every link's rotation from the reference."""
 
     joints: dict[str, complex]
     smallest: float
+    turns: dict[str, float] | None = None
+    #: the poses (x, y, φ per moving link) there
+    x: FloatArray | None = None
 
 
 def _newton(
@@ -281,5 +284,6 @@ def _reach(system: FullSystem, qa: FloatArray, h_max: float, h_min: float) -> di
             if qc != target:
                 break
             s = np.linalg.svd(J, compute_uv=False)
-            out[int(i)] = Reached(system.joints(x), float(s[-1] / s[0]))
+            turns = {link: system.angle(x, link) for link in system.mechanism.links}
+            out[int(i)] = Reached(system.joints(x), float(s[-1] / s[0]), turns, x.copy())
     return out

@@ -28,6 +28,10 @@ class _Grower:
     placed: list[str] = field(default_factory=list)
     used: set[str] = field(default_factory=set)  # joints extended by the current group
     count: int = 0
+    #: chance that a new external joint is prismatic
+    slider: float = 0.1
+    #: the one placed link every external pin of the current group lands on (None: any)
+    host: str | None = None
 
     def new_link(self) -> str:
         self.count += 1
@@ -42,32 +46,46 @@ class _Grower:
             joint[1].append(link)
             self.used.add(joint[0])
         else:
-            kind = "P" if self.rng.random() < 0.1 else "R"
-            self.joints.append(
-                (f"J{len(self.joints)}", [self.rng.choice(self.placed), link], kind)
-            )
+            kind = "P" if self.rng.random() < self.slider else "R"
+            on = self.rng.choice(self.placed) if self.host is None else self.host
+            self.joints.append((f"J{len(self.joints)}", [on, link], kind))
 
     def pin(self, a: str, b: str) -> None:
         self.joints.append((f"J{len(self.joints)}", [a, b], "R"))
 
 
-def random_mechanism(groups: int, seed: int = 0, mj: float = 0.3) -> Mechanism:
+def random_mechanism(
+    groups: int,
+    seed: int = 0,
+    mj: float = 0.3,
+    slider: float = 0.1,
+    hang: float = 0.0,
+) -> Mechanism:
     """A random one-DOF mechanism grown from a crank by dyads, triads and class-IV groups.
 
     External pins land on an existing revolute joint with probability ``mj`` (which
-    makes multiple joints).  Frame ``"0"``, driver ``"J0"``.
+    makes multiple joints); a new external joint is prismatic with probability
+    ``slider`` (a triad's leg on a slider, a dyad RRP, ...); with probability ``hang``
+    every new external joint of a group lands on one placed link (a group hanging on
+    one link: rigid relative to it when all its pins are new).  Frame ``"0"``, driver
+    ``"J0"``.  The defaults draw the same mechanisms as before these options existed.
 
     >>> m = random_mechanism(5, seed=1)
     >>> m.frame, m.drivers, len(m.links) > 10
     ('0', ('J0',), True)
+    >>> m = random_mechanism(3, seed=1, slider=1.0, mj=0.0)
+    >>> sum(j.kind == "P" for j in m.joints) > 0
+    True
     """
-    g = _Grower(random.Random(seed), placed=["0"])
+    g = _Grower(random.Random(seed), placed=["0"], slider=slider)
     crank = g.new_link()
     g.joints.append(("J0", ["0", crank], "R"))
     g.placed.append(crank)
     for _ in range(groups):
         known = len(g.joints)  # joints whose position is known before this group
         g.used.clear()
+        # drawn only when asked for, so that the default stream is unchanged
+        g.host = g.rng.choice(g.placed) if hang > 0 and g.rng.random() < hang else None
         kind = g.rng.random()
         if kind < 0.6:  # dyad
             a, b = g.new_link(), g.new_link()

@@ -327,8 +327,11 @@ def test_every_joint_constraint_holds_on_every_frame(m):
     res = kinematic_analysis(m, frames=90)
     g = read_geometry(m)
     assert res.checks["link_lengths"]["max_error"] < 1e-12 * g.scale
-    ok = np.flatnonzero(res.valid)
-    assert ok.size >= 85
+    # a tangent mechanism's pin runs off to infinity twice a turn: the frames past it
+    # (either way) are another assembly, not reached; their positions keep the joints too
+    other = res.valid if res.another_assembly is None else res.another_assembly
+    ok = np.flatnonzero(res.valid | other)
+    assert ok.size >= 85 and res.valid.sum() >= 40
     for i in ok:
         poses = result_poses(res, m, int(i))
         dq = float(res.q[i, 0] - res.q[0, 0])
@@ -374,15 +377,24 @@ def test_guides_parallel_along_the_motion_give_null_frames_and_a_warning(tmp_pat
     q = res.q[:, 0]
     near = np.abs(np.sin(q)) < 1e-12
     assert near.sum() == 2
-    assert not res.valid[near].any() and res.valid[~near].all()
+    assert not res.valid[near].any()
+    # the pin runs off to infinity at q = π and q = 0: the motion from q0 = π/4 reaches
+    # (0, π) only; the frames of (π, 2π) assemble (the same guide lines) but lie past
+    # both, another assembly, not reached
+    assert res.valid[:135].all() and res.valid[316:].all() and not res.valid[136:315].any()
+    assert res.another_assembly is not None
+    assert np.flatnonzero(res.another_assembly).tolist() == list(range(136, 315))
     assert any("guides S and T are parallel at 2 frame(s)" in w for w in res.warnings)
-    # a line-line dyad has one solution: nothing to carry across the null frames
-    assert not any("assemble again" in w for w in res.warnings)
+    assert any("another assembly, not reached" in w for w in res.warnings)
     d = res.to_dict()
     text = json.dumps(d, allow_nan=False)  # no NaN or infinity in JSON
     assert "NaN" not in text and "Infinity" not in text
     i = int(np.flatnonzero(near)[0])
-    assert d["joints"]["X"]["x"][i] is None and d["joints"]["X"]["x"][i + 1] is not None
+    assert d["joints"]["X"]["x"][i] is None and d["joints"]["X"]["x"][i - 1] is not None
+    assert d["joints"]["X"]["x"][i + 1] is None
+    assert d["another_assembly"]["frames"][0] == i + 1
+    x_other = d["another_assembly"]["joints"]["X"]["x"][0]
+    assert x_other == pytest.approx(float(res.joints["X"]["x"][i + 1]))
     # the valid frames still follow the closed form
     ok = ~near
     np.testing.assert_allclose(res.joints["X"]["x"][ok], h / np.tan(q[ok]), rtol=1e-12, atol=1e-12)
@@ -395,3 +407,13 @@ def test_guides_parallel_along_the_motion_give_null_frames_and_a_warning(tmp_pat
     out = json.loads(capsys.readouterr().out)
     assert out["joints"]["X"]["x"][i] is None
     assert any("parallel" in w for w in out["warnings"])
+
+
+def test_a_pin_run_off_to_infinity_between_two_frames_stops_the_motion():
+    """No frame sits on q = π here: the guides' sign change between two frames is the wall."""
+    res = kinematic_analysis(tangent(0.2, math.pi / 4), frames=361)
+    q = res.q[:, 0]
+    assert not np.any(np.abs(np.sin(q)) < 1e-12)
+    inside = (np.mod(q, 2 * np.pi) > 0) & (np.mod(q, 2 * np.pi) < np.pi)
+    assert (res.valid == inside).all()
+    assert res.another_assembly is not None and (res.another_assembly == ~inside).all()

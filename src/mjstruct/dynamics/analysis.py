@@ -43,6 +43,7 @@ from mjstruct.dynamics.motion import (
 )
 from mjstruct.dynamics.result import OUTPUTS, DynamicsResult
 from mjstruct.errors import MechanismError, expect_ids, expect_int, expect_number
+from mjstruct.kinematics.accuracy import analog_relative_error
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
 from mjstruct.typing import FloatArray
@@ -160,6 +161,11 @@ def dynamic_analysis(
         loads = link_loads(data, lm, run.parameters, lm.q[:, 0], run.qdot[:, 0])
         out = joint_loads(model, lm, loads, wanted, joints, free=run.mode == "free")
         warnings += out.warnings
+        accuracy = out.accuracy
+        mo = lm.motion
+        if mo.order >= 2 and len(model.drivers) == 1 and mo.q.shape[0] == accuracy.shape[0]:
+            # the loads inherit the error of the analogs they are fed
+            accuracy = accuracy + analog_relative_error(mo)
         result = dataclasses.replace(
             result,
             driving=out.driving,
@@ -167,7 +173,7 @@ def dynamic_analysis(
             residual=out.residual,
             check=out.check,
             condition=out.condition,
-            accuracy=out.accuracy,
+            accuracy=accuracy,
         )
     return dataclasses.replace(result, warnings=warnings)
 

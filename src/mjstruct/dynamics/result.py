@@ -57,7 +57,10 @@ class DynamicsResult:
         lose between log10 and 2·log10 of it in digits.  Frames above
         ``SINGULAR_CONDITION`` (1e15) are singular: null loads and a warning.
     accuracy : per-frame estimate of the relative error of the reactions and actuator
-        loads from the solve, condition × machine epsilon (JSON: its largest value).
+        loads: the solve's, condition × machine epsilon, plus the relative error
+        estimate of the velocity and acceleration analogs fed into it
+        (:func:`~mjstruct.kinematics.accuracy.analog_relative_error`; JSON: its largest
+        value).
         ``check`` cannot see this loss (the excluded equation is computed from the
         same rounded loads), ``accuracy`` grows with the conditioning.
     warnings : what the user must know.

@@ -255,6 +255,10 @@ def track_branches(
         else:
             K[k] = np.full(F, base_mode, dtype=np.int8)
         flips = np.flatnonzero(K[k][1:] != K[k][:-1])
+        if closed is not None:
+            # a flip is a motion's event between two closed frames; across frames that
+            # do not close the modes are only bookkeeping (no configuration there)
+            flips = flips[closed[flips] & closed[flips + 1]]
         for f in flips:
             # the flip lies between frames f and f + 1: at the later one
             j = int(f) + 1
@@ -437,6 +441,8 @@ def _next_candidate(sine: FloatArray, ok: BoolArray, start: int) -> tuple[int, i
         return None
     if not (sine[max(start, 1) : F - 1] < WATCH).any() and ok.all():
         return None  # no undefined frame, none low enough to be a dip: the common case
+    if constant_sine(sine):
+        return None  # a dyad rigid relative to its links: no dip anywhere
     s = np.where(ok, sine, np.inf)
     inner = np.arange(1, F - 1)
     dip = (
@@ -457,6 +463,23 @@ def _next_candidate(sine: FloatArray, ok: BoolArray, start: int) -> tuple[int, i
     if dip[j]:
         return i, i + 1, False
     return i, i + (2 if gap2[j] else 1), True
+
+
+#: a dyad's |sine| that varies by less than this (relative) over the frames is constant:
+#: the dyad does not move relative to the links it hangs on (rounding moves it ~1e-15)
+CONSTANT_SINE = 1e-9
+
+
+def constant_sine(sine: FloatArray) -> bool:
+    """True when a dyad's |sine| (finite on at least three frames) does not change.
+
+    >>> constant_sine(np.array([0.1, 0.1 + 1e-16, 0.1])), constant_sine(np.array([0.1, 0.2, 0.1]))
+    (True, False)
+    """
+    s = sine[np.isfinite(sine)]
+    if s.size < 3:
+        return False
+    return bool(s.max() - s.min() <= CONSTANT_SINE * max(float(s.max()), 1e-300))
 
 
 def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:

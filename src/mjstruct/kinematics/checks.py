@@ -31,7 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.closure import closure_jacobian
+from mjstruct.kinematics.accuracy import closure_jacobian_of
 from mjstruct.kinematics.jacobian import check_jacobian, one_blas_thread
 from mjstruct.kinematics.model import Motion
 from mjstruct.kinematics.result import KinematicsResult
@@ -100,39 +100,13 @@ def plan_determinant(motion: Motion) -> tuple[FloatArray, FloatArray]:
             sign *= np.sign(det)
             logabs += np.log(np.abs(det))
         if motion.closure is not None:
-            Rt = _closure_jacobian(motion)
+            Rt = closure_jacobian_of(motion)
             if Rt.shape[1] != Rt.shape[2]:
                 return np.full(F, np.nan), np.full(F, np.nan)
             s, lg = batched_det(Rt)
             sign *= s
             logabs += lg
     return sign, logabs
-
-
-def _closure_jacobian(motion: Motion) -> FloatArray:
-    """dR/dt of the closure equations on every frame, in the closure's modes.
-
-    The closure's own (from Newton's last round, at the final unknowns) where it has
-    it; evaluated afresh only on the other frames (closed at the reference or by
-    reseeding, or not closed: there at the unknowns it ended with, else 0).
-    """
-    sol, q = motion.closure, motion.q
-    assert sol is not None
-    have = sol.jacobian
-    if have is not None and have.shape[0] == q.shape[0]:
-        miss = np.flatnonzero(~np.isfinite(have).all(axis=(1, 2)))
-        if miss.size == 0:
-            return have
-        Rt = have.copy()
-    else:
-        miss = np.arange(q.shape[0])
-        Rt = np.empty((q.shape[0], motion.model.plan.equations, motion.model.plan.unknowns))
-    t = sol.t[miss]
-    t = np.where(np.isfinite(t), t, 0.0)
-    # the closure's inner dyads in their modes of each frame
-    modes = {k: v[miss] for k, v in sol.modes.items()} or None
-    _, Rt[miss] = closure_jacobian(motion.model, q[miss], t, modes)
-    return Rt
 
 
 #: what ``checks`` may ask for: True (the default: O(frames) checks), "full" (the

@@ -50,6 +50,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -72,7 +73,8 @@ from mjstruct.kinematics.closure_newton import (
     tangent,
 )
 from mjstruct.kinematics.closure_path import ClosurePath, hermite
-from mjstruct.kinematics.evaluate import Evaluation
+from mjstruct.kinematics.continuity import joined_along
+from mjstruct.kinematics.evaluate import Evaluation, evaluate
 from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import NEWTON_TOL, STALL_ERROR, STATION_TOL
 from mjstruct.typing import BoolArray, FloatArray
@@ -274,13 +276,30 @@ def close(
             t1[r], t2[r] = derivatives(model, q[r], t[r], rate, subset_modes(K, r), order)
     reseeded: tuple[int, ...] = ()
     more: list[tuple[FloatArray, FloatArray, Modes | None]] = []
+    jumped: list[int] = []  # frames whose reseeding continuation jumped on its way there
     if reseed and not ok.all():
         # where the path's first run from the reference met the edge, continuing from
         # the reference along that ray again would only meet it again
         edge = (dir0, gap) if K0 is None and gap <= path.run_end(0.0) else None
         K = _frame_modes(model, K, inner, F)
         reseeded = _reseed(
-            model, q, rate, K0, tol, maxiter, t, t1, t2, err, ok, order, edge, K, more
+            model,
+            q,
+            rate,
+            K0,
+            tol,
+            maxiter,
+            t,
+            t1,
+            t2,
+            err,
+            ok,
+            order,
+            edge,
+            K,
+            more,
+            first=-1.0 if dir0[0] < 0 else 1.0,
+            jumped=jumped,
         )
     if q.shape[1] == 1 and D0 is not None and dir0[0] != 0:
         d0 = D0 * (rate[0] / dir0[0])  # the tangent is linear in the driver rates
@@ -288,7 +307,7 @@ def close(
         d0 = tangent(
             model, q_ref[None, :], np.zeros((1, k)), subset_modes(K0, np.array([0])), rate
         )[0]
-    jumps = branch_jumps(q, q_ref, t, t1, d0, ok, rate)
+    jumps = tuple(sorted(set(branch_jumps(q, q_ref, t, t1, d0, ok, rate)) | set(jumped)))
     modes = _frame_modes(model, K, inner, F)
     stops = [] if flips is None or flips.stop is None else [flips.stop]
     # the Jacobian at the final t only where Newton's last round (or the repair) left it
@@ -376,51 +395,68 @@ def _reseed(
     edge: tuple[FloatArray, float] | None = None,
     modes: dict[int, npt.NDArray[np.int8]] | None = None,
     stops: list[tuple[FloatArray, FloatArray, Modes | None]] | None = None,
+    first: float = 1.0,
+    jumped: list[int] | None = None,
 ) -> tuple[int, ...]:
     """Continue from the reference again to the frames the path did not reach.
 
     Past an infeasible stretch the path's continuation has nothing to follow, yet the
     frames beyond may lie on the reference's branch, reached from the reference the
-    other way (a rocking input).  A revolute driver's angle is taken modulo 2π
-    (within π of the reference: the mechanism is the same), the missed frames are
-    sorted by their distance from the reference on each side, and each side is
-    closed by continuation from the reference.  ``edge`` (dq/ds, arc): the path left
-    the reference along that direction and met the edge of the feasible range at that
-    arc; frames on that ray at least as far are not sought again (the same
+    other way (a rocking input).  A revolute driver's angle is taken modulo 2π (the
+    mechanism is the same); with one driver every missed frame is sought on the
+    path's side (``first``: +1 forwards) and then, if not reached, on the other (with
+    several, within π of the reference), sorted by its distance from the reference on
+    each side, each side closed by continuation from the reference.  ``edge`` (dq/ds,
+    arc): the path left the reference along that direction and met the edge of the
+    feasible range at that arc; frames on that ray at least as far are not sought again (the same
     continuation would stop at the same edge).  Fills ``t``, ``t1``, ``t2``, ``err``
-    and ``ok`` in place; returns the frames it closed.
+    and ``ok`` in place; returns the frames it closed.  ``jumped`` receives the frames
+    where a continuation's own branch-jump test fired (:func:`branch_jumps` along its
+    path from the reference).
     """
-    miss = np.flatnonzero(~ok)
     q_ref = model.q_ref
     turns = np.array([model.mechanism.joint(d).kind == "R" for d in model.drivers])
-    d = q[miss] - q_ref
-    d[:, turns] -= 2 * np.pi * np.round(d[:, turns] / (2 * np.pi))
-    lead = np.abs(d).argmax(axis=1)
-    side = np.sign(d[np.arange(miss.size), lead])
-    dist = np.abs(d).max(axis=1)
-    seek = np.ones(miss.size, bool)
-    if edge is not None:
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ray = np.abs(d / dist[:, None] - edge[0]).max(axis=1) <= 1e-12
-        seek = ~(ray & (dist >= edge[1]))
     found: list[int] = []
-    for sgn in (1.0, -1.0):
+    for sgn in (first, -first):
+        miss = np.flatnonzero(~ok)
+        if miss.size == 0:
+            break
+        d = q[miss] - q_ref
+        if turns.size == 1 and turns[0]:
+            # one angle: every missed frame is sought both ways round (a frame more
+            # than half a turn away on one side may be reached only on the other)
+            d = np.mod(d, 2 * np.pi)
+            if sgn < 0:
+                d = np.where(d > 0, d - 2 * np.pi, d)
+        else:
+            d[:, turns] -= 2 * np.pi * np.round(d[:, turns] / (2 * np.pi))
+        lead = np.abs(d).argmax(axis=1)
+        side = np.sign(d[np.arange(miss.size), lead])
+        dist = np.abs(d).max(axis=1)
+        seek = np.ones(miss.size, bool)
+        if edge is not None:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                ray = np.abs(d / dist[:, None] - edge[0]).max(axis=1) <= 1e-12
+            seek = ~(ray & (dist >= edge[1]))
         pick = np.flatnonzero((side == sgn) & seek)
         if pick.size == 0:
             continue
         pick = pick[np.argsort(dist[pick], kind="stable")]
         frames = miss[pick]
-        sol = close(
-            model,
-            q_ref + d[pick],
-            rate,
-            subset_modes(K, frames),
-            tol,
-            maxiter,
-            reseed=False,
-            order=order,
-        )
-        got = sol.converged
+        if q.shape[1] == 1 and K is None:
+            sol, got = _reseed_one_driver(model, q_ref, d[pick, 0], sgn, rate, tol, maxiter, order)
+        else:
+            sol = close(
+                model,
+                q_ref + d[pick],
+                rate,
+                subset_modes(K, frames),
+                tol,
+                maxiter,
+                reseed=False,
+                order=order,
+            )
+            got = sol.converged.copy()
         fr = frames[got]
         t[fr], t1[fr], t2[fr], err[fr] = sol.t[got], sol.t1[got], sol.t2[got], sol.error[got]
         ok[fr] = True
@@ -430,7 +466,102 @@ def _reseed(
         if stops is not None:
             stops += sol.stops
         found += [int(i) for i in fr]
+        if jumped is not None:
+            jumped += [int(frames[j]) for j in sol.jumps if got[j]]
     return tuple(sorted(found))
+
+
+#: the spacing (radians or slide) of the points a reseeding continuation checks the
+#: whole mechanism at, between the reference and the frames it seeks
+RESEED_GRID = np.pi / 180
+
+
+def _reseed_one_driver(
+    model: ModelView,
+    q_ref: FloatArray,
+    d: FloatArray,
+    sgn: float,
+    rate: FloatArray,
+    tol: float,
+    maxiter: int,
+    order: int,
+) -> tuple[Closure, BoolArray]:
+    """Continue from the reference to the points ``q_ref + d`` (one side, by distance)
+    through a grid of :data:`RESEED_GRID`; returns the closure on ``d`` and the points
+    a continuous motion of the whole mechanism reaches: the closure closes on every
+    point up to them without hopping to another branch, and every group assembles
+    there (a gap of another group between the frames stops the motion as well)."""
+    far = float(np.abs(d).max())
+    grid = sgn * np.arange(RESEED_GRID, far, RESEED_GRID)
+    path = np.concatenate([d, grid])
+    is_frame = np.concatenate([np.arange(d.size), np.full(grid.size, -1)])
+    order_ = np.argsort(np.abs(path), kind="stable")
+    path, is_frame = path[order_], is_frame[order_]
+    qp = q_ref[None, :] + path[:, None]
+    sol = close(model, qp, rate, None, tol, maxiter, reseed=False, order=order)
+    got = sol.converged.copy()
+    got[_past_a_hop(model, q_ref, path[:, None], sol, got, None, tol) :] = False
+    t = np.where(got[:, None], sol.t, np.nan)
+    ev = evaluate(model, qp, order=0, t=t, K=sol.modes or None)
+    whole = np.ones(path.size, bool)
+    for pose in ev.poses.values():
+        whole &= np.isfinite(pose.r + pose.A[0])
+    stop = np.flatnonzero(~(got & whole))
+    if stop.size:
+        got[int(stop[0]) :] = False
+    keep = np.flatnonzero(is_frame >= 0)
+    back = keep[np.argsort(is_frame[keep])]
+    sub = dataclasses.replace(
+        sol,
+        t=sol.t[back],
+        t1=sol.t1[back],
+        t2=sol.t2[back],
+        error=sol.error[back],
+        converged=sol.converged[back],
+        jumps=tuple(int(np.flatnonzero(back == j)[0]) for j in sol.jumps if j in back),
+        modes={k: v[back] for k, v in sol.modes.items()},
+        jacobian=None if sol.jacobian is None else sol.jacobian[back],
+    )
+    return sub, got[back]
+
+
+def _past_a_hop(
+    model: ModelView,
+    q_ref: FloatArray,
+    d: FloatArray,
+    sol: Closure,
+    got: BoolArray,
+    K: Modes | None,
+    tol: float = NEWTON_TOL,
+) -> int:
+    """The first point of a reseeding path (``q_ref + d``, by distance) that its
+    continuation reached only by hopping onto another branch (a fold passed between
+    two closed points): the points from it on are not reached."""
+    closed = np.flatnonzero(got)
+    if closed.size == 0:
+        return got.size
+    # the path's closed prefix, from the reference
+    prefix = closed[closed == np.arange(closed.size)]
+    if prefix.size == 0:
+        return 0
+    x = np.concatenate([q_ref[:1], q_ref[0] + d[prefix, 0]])
+    k = sol.t.shape[1]
+    K0 = subset_modes(K, prefix[:1]) if K is not None else None
+    if sol.modes:
+        K0 = {**(K0 or {}), **reference_modes(model, tuple(sol.modes))}
+    d0 = tangent(model, q_ref[None, :], np.zeros((1, k)), K0, np.ones(1))
+    t = np.concatenate([np.zeros((1, k)), sol.t[prefix]])
+    slopes = np.concatenate([d0, sol.t1[prefix]])
+    Kx: Modes | None = None
+    if sol.modes:
+        # the reference in its own modes (an inner dyad may flip before the first point)
+        ref = reference_modes(model, tuple(sol.modes))
+        Kx = {
+            kk: np.concatenate([np.array([ref[kk]], v.dtype), v[prefix]])
+            for kk, v in sol.modes.items()
+        }
+    n = joined_along(model, x, t, slopes, Kx, tol)
+    return int(prefix[n - 1]) if n <= prefix.size else got.size
 
 
 def branch_jumps(

@@ -27,6 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct import display
+from mjstruct.kinematics.accuracy import ErrorEstimate, error_estimate
 from mjstruct.kinematics.branches import BranchEvent
 from mjstruct.kinematics.closure import Closure
 from mjstruct.kinematics.evaluate import Evaluation
@@ -35,6 +36,7 @@ from mjstruct.kinematics.jacobian import JacobianCheck
 from mjstruct.kinematics.model import KinematicModel, Motion
 from mjstruct.kinematics.planner import Plan
 from mjstruct.mechanism import Mechanism
+from mjstruct.output_numbers import json_list, json_number
 
 FloatArray = npt.NDArray[np.float64]
 ComplexArray = npt.NDArray[np.complex128]
@@ -74,6 +76,13 @@ class KinematicsResult:
     #: joint, point and link is given where its own values exist (finite), the items
     #: of the groups that do not assemble are null; default: none
     partial: BoolArray | None = None
+    #: frames that assemble but that no continuous motion from the reference reaches
+    #: (past an interval that does not assemble, either way round): another assembly,
+    #: null in the tables, their positions in :meth:`another_assembly_dict`; default: none
+    another_assembly: BoolArray | None = None
+    #: the motion the tables come from (for the error estimates, made when read)
+    _motion: Motion | None = field(default=None, repr=False)
+    _error: ErrorEstimate | None = field(default=None, repr=False)
     _on_demand: Callable[[KinematicsResult], dict[str, Any]] | None = field(
         default=None, repr=False
     )
@@ -101,6 +110,27 @@ class KinematicsResult:
             self._on_demand = lambda r: {**earlier(r), **compute(r)}
         else:
             self._on_demand = compute
+
+    @property
+    def error(self) -> ErrorEstimate | None:
+        """Per frame, estimates of the largest error of the positions, velocities and
+        accelerations (from the residual and the conditioning of the plan's groups;
+        :mod:`~mjstruct.kinematics.accuracy`); None without the motion (a streamed
+        chunk).  Made when first read."""
+        if self._error is None and self._motion is not None:
+            self._error = self._estimate(self._motion)
+        return self._error
+
+    def _estimate(self, motion: Motion) -> ErrorEstimate:
+        S = np.zeros(self.q.shape[0])
+        K = np.zeros(self.q.shape[0])
+        with np.errstate(invalid="ignore"):
+            for table in (self.joints, self.points):
+                if len(table):
+                    jets = table.stacks()
+                    S = np.fmax(S, np.abs(jets[1]).max(axis=0))
+                    K = np.fmax(K, np.abs(jets[2]).max(axis=0))
+        return error_estimate(motion, self.speed, S, K, self.valid)
 
     @property
     def placed(self) -> BoolArray:
@@ -161,17 +191,47 @@ class KinematicsResult:
             },
             "branch_points": [
                 {
-                    "q": e.q,
+                    "q": json_number(e.q),
                     "frame": e.frame,
                     "joint": e.joint,
                     "kind": e.kind,
-                    "sine": e.sine,
+                    "sine": json_number(e.sine),
                     "mode": e.action,
                 }
                 for e in self.events
             ],
             "checks": self.checks,
             "closure": None if self.closure is None else self._closure_dict(),
+            "another_assembly": self.another_assembly_dict(),
+            "error": self._error_dict(),
+        }
+
+    def _error_dict(self) -> dict[str, list[float | None]] | None:
+        e = self.error
+        if e is None:
+            return None
+        return {
+            "position": json_list(e.position),
+            "velocity": json_list(e.velocity),
+            "acceleration": json_list(e.acceleration),
+            "conditioning": json_list(e.conditioning),
+        }
+
+    def another_assembly_dict(self) -> dict[str, Any] | None:
+        """The frames of another assembly (not reached from the reference) and the joint
+        centres there, or None when every frame that assembles is reached."""
+        other = self.another_assembly
+        if other is None or not other.any():
+            return None
+        idx = np.flatnonzero(other)
+        xy = self.joints.values_at(idx)
+        return {
+            "frames": [int(i) for i in idx],
+            "note": "assembled, but not reached by a continuous motion from the reference",
+            "joints": {
+                j: {"x": json_list(xy[k].real), "y": json_list(xy[k].imag)}
+                for k, j in enumerate(self.joints)
+            },
         }
 
     def _closure_dict(self) -> dict[str, Any]:
@@ -484,6 +544,7 @@ def collect(motion: Motion, speed: float) -> KinematicsResult:
         motion.closure,
         assembled=assembled,
         partial=partial,
+        _motion=motion,
     )
 
 

@@ -28,14 +28,15 @@ import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.branches import fill_change_frames
-from mjstruct.kinematics.checks import Checks, checks_level, run_checks
+from mjstruct.kinematics.checks import Checks, checks_level, plan_determinant, run_checks
 from mjstruct.kinematics.closure import Closure
-from mjstruct.kinematics.evaluate import Evaluation
+from mjstruct.kinematics.continuity import closure_walls
 from mjstruct.kinematics.jacobian import poses_at
 from mjstruct.kinematics.memory import CHUNK_FRAMES, LEAD_FRAMES, check_sweep_memory
 from mjstruct.kinematics.model import KinematicModel, Motion, model_of
-from mjstruct.kinematics.planner import Plan
+from mjstruct.kinematics.reach import reached_frames, sign_walls
 from mjstruct.kinematics.result import KinematicsResult, collect
+from mjstruct.kinematics.sweep_warnings import denormal_outputs, sweep_warnings
 from mjstruct.kinematics.tolerances import CLOSURE_TOL, NEAR_SINGULAR
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition
@@ -112,10 +113,11 @@ def kinematic_analysis(
         qa = km.driver_values(q)
         check_sweep_memory(km, qa.shape[0], max_memory, checks=checks)
     _check_speed(km, speed)
-    result, motion = _analyse(km, qa, speed, tol)
-    result.warnings = _warnings(result, motion)
+    result, motion = _analyse(km, qa, speed, tol, sweep=q is None)
+    result.warnings = sweep_warnings(result, motion)
     if q is None:
         result.warnings += _open_cycle(result, km)
+    result.warnings += denormal_outputs(result, km)
     if checks:
         with np.errstate(all="ignore"):
             run_checks(result, motion, full=checks == "full")
@@ -162,7 +164,7 @@ def _check_speed(km: KinematicModel, speed: float) -> None:
 
 
 def _analyse(
-    km: KinematicModel, qa: FloatArray, speed: float, tol: float
+    km: KinematicModel, qa: FloatArray, speed: float, tol: float, sweep: bool = False
 ) -> tuple[KinematicsResult, Motion]:
     """The motion on ``qa`` and its tables (no warnings, no checks)."""
     motion = km.motion(qa, order=2, tol=tol)
@@ -176,18 +178,55 @@ def _analyse(
     # (reported), and their arithmetic must not warn
     with np.errstate(all="ignore"):
         result = collect(motion, speed)
+    _not_reached(result, km, motion, sweep)
     _check_overflow(result)
     return result, motion
 
 
-def _warnings(result: KinematicsResult, motion: Motion, offset: int = 0) -> list[str]:
-    """The motion's warnings, its branch events, parallel guides and infeasible runs
-    (frame numbers shifted by ``offset``)."""
-    warnings = list(motion.warnings)
-    warnings += [e.message() for e in motion.events]
-    warnings += _parallel_guides(result.plan, motion.evaluation, motion.q)
-    warnings += _infeasible(result, offset)
-    return warnings
+def _not_reached(
+    r: KinematicsResult, km: KinematicModel, motion: Motion, sweep: bool = False
+) -> None:
+    """Frames that assemble but that no continuous motion from the reference reaches:
+    taken out of the tables into ``another_assembly`` (one driver; in place).
+
+    ``sweep``: ``r.q`` is a one-turn (or one-stroke) sweep from the reference, whose
+    consecutive frames are neighbours: a change of sign of the mechanism's Jacobian
+    between two of them is a fold the motion cannot pass.
+    """
+    if r.q.shape[1] != 1:
+        return
+    turns = km.mechanism.joint(km.drivers[0]).kind == "R"
+    walls = None
+    # without closure unknowns every frame is solved on its own in the dyads' modes: a
+    # dyad's fold leaves a gap of frames that do not assemble; only a closure can hop
+    # over a fold, and a line-line dyad's pin run off to infinity between two frames
+    lines = any(st.step_kind.guides is not None for st in km.plan.steps)
+    if sweep and r.q.shape[0] > 2 and (r.closure is not None or lines):
+        with np.errstate(all="ignore"):
+            sign, _ = plan_determinant(motion)
+        quiet = np.zeros(r.q.shape[0], bool)
+        for e in r.events:
+            if e.kind in ("change point", "mode flip", "singular frame"):
+                quiet[max(e.frame - 1, 0) : e.frame + 2] = True
+        turn = 2 * np.pi * np.sign(r.q[-1, 0] - r.q[0, 0]) if turns else None
+        walls = sign_walls(r.q, sign, r.placed, quiet, turn)
+        if r.closure is not None:
+            c = r.closure
+            closed = (c.t, c.t1, c.converged)
+            more = closure_walls(km, r.q, closed, c.jumps, dict(c.modes), c.tol, turn)
+            walls = np.concatenate([walls, more])
+    if r.placed.all() and (walls is None or walls.size == 0):
+        return
+    blocked = ~r.placed
+    reached = reached_frames(r.q, float(km.q_ref[0]), blocked, turns, walls)
+    other = r.placed & ~reached
+    if not other.any():
+        return
+    r.another_assembly = other
+    r.valid = r.valid & reached
+    r.assembled = r.placed & reached
+    # the branch points of another assembly are not the motion's
+    r.events = [e for e in r.events if not other[e.frame]]
 
 
 def sweep_chunks(
@@ -240,7 +279,7 @@ def sweep_chunks(
         n = lead.size
         if n:
             result, motion = _tail(result, n), _tail_motion(motion, n, idx)
-        result.warnings = _warnings(result, motion, offset=a)
+        result.warnings = sweep_warnings(result, motion, offset=a)
         if checks:
             with np.errstate(all="ignore"):
                 run_checks(result, motion, full=checks == "full")
@@ -261,6 +300,9 @@ def _tail(r: KinematicsResult, n: int) -> KinematicsResult:
         closure=None if r.closure is None else _tail_closure(r.closure, n),
         assembled=None if r.assembled is None else r.assembled[n:],
         partial=None if r.partial is None else r.partial[n:],
+        another_assembly=None if r.another_assembly is None else r.another_assembly[n:],
+        _motion=None,
+        _error=None,
     )
 
 
@@ -324,102 +366,3 @@ def _overflow(rate: FloatArray, analog: FloatArray, speed: float) -> None:
             f"speed: {speed:g} overflows the velocities or accelerations (largest analog "
             f"{float(np.abs(analog[np.isfinite(analog)]).max()):.3g})"
         )
-
-
-def _parallel_guides(plan: Plan, ev: Evaluation, q: FloatArray) -> list[str]:
-    """Frames where the two guides of a line-intersection dyad are parallel."""
-    out = []
-    for k, s in enumerate(plan.steps):
-        guides_of = s.step_kind.guides
-        if guides_of is not None and k in ev.diag:
-            bad = ev.diag[k][0] < 0
-            if bad.any():
-                guides = guides_of(s)
-                out.append(
-                    f"dyad {s.kind} (step {k + 1}): guides {guides[0]} and {guides[1]} are "
-                    f"parallel at {int(bad.sum())} frame(s), first q = "
-                    f"{q[np.argmax(bad), 0]:.9g}: no intersection, values are null"
-                )
-    return out
-
-
-def _infeasible(r: KinematicsResult, offset: int = 0) -> list[str]:
-    """Runs of frames that do not assemble, with their q range; singular frames.
-
-    ``offset``: the number of ``r``'s first frame in the sweep (a streamed chunk).
-    """
-    if r.valid.all():
-        return []  # every frame valid (and so placed): no run to word
-    out = [
-        _unassembled(r, line, i)
-        for line, i in zip(
-            _runs(r, ~r.placed, "no assembly for q in [{a}, {b}] (frames {i}..{j})", offset),
-            _run_starts(~r.placed),
-            strict=True,
-        )
-    ]
-    out += _runs(
-        r,
-        r.placed & ~r.valid,
-        "singular position for q in [{a}, {b}] (frames {i}..{j}): the Jacobian with the drivers "
-        "fixed is singular; positions are given, velocities and accelerations are not (null)",
-        offset,
-    )
-    bad = np.concatenate([[False], ~r.placed, [False]])
-    ends = np.flatnonzero(~bad[1:] & bad[:-1]) - 1
-    after = [int(j) + 1 for j in ends if j + 1 < r.valid.size]
-    # only steps with an assembly mode (circle intersections, closures) can carry the
-    # wrong branch across a gap; line-line dyads (PRP, RPP) have a single solution
-    has_modes = any(s.step_kind.has_modes or s.is_closure for s in r.plan.steps)
-    reseeded = set(() if r.closure is None else r.closure.reseeded)
-    if after and has_modes and after[0] - offset in reseeded:
-        # closed from the reference backwards: the branch of the reference, reached by
-        # the driver turning the other way (it cannot cross the gap)
-        out.append(
-            f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
-            "reached from the reference with the driver turning the other way (the same "
-            "branch; the driver cannot cross the gap, it rocks)"
-        )
-    elif after and has_modes:
-        # the motion cannot physically cross an infeasible interval: say so
-        out.append(
-            f"frames from {after[0] + offset} on assemble again after an infeasible interval: "
-            "found by continuation across the gap (same assembly modes), not a physical motion"
-        )
-    return out
-
-
-def _run_starts(mask: npt.NDArray[np.bool_]) -> list[int]:
-    """The first frame of each run of ``mask``."""
-    edge = np.concatenate([[False], mask])
-    return [int(i) for i in np.flatnonzero(edge[1:] & ~edge[:-1])]
-
-
-def _unassembled(r: KinematicsResult, line: str, i: int) -> str:
-    """``line`` (a run of frames that do not assemble from frame ``i``) with what is null.
-
-    Where only some groups assemble (``r.partial``), the joints of the others are named:
-    the joints whose groups assemble keep their values.
-    """
-    if r.partial is None or not r.partial[i]:
-        return f"{line}; values are null"
-    missing = [j for j, v in r.joints.items() if not np.isfinite(v["x"][i])]
-    if len(missing) == len(r.joints):
-        return f"{line}; values are null"
-    return (
-        f"{line} of joints {', '.join(missing)}: their values are null; the groups that "
-        "assemble are given"
-    )
-
-
-def _runs(
-    r: KinematicsResult, mask: npt.NDArray[np.bool_], text: str, offset: int = 0
-) -> list[str]:
-    """``text`` for each run of frames in ``mask`` (``{a}``, ``{b}``: its q range)."""
-    edge = np.concatenate([[False], mask, [False]])
-    starts = np.flatnonzero(edge[1:] & ~edge[:-1])
-    ends = np.flatnonzero(~edge[1:] & edge[:-1]) - 1
-    return [
-        text.format(a=f"{r.q[i, 0]:.9g}", b=f"{r.q[j, 0]:.9g}", i=i + offset, j=j + offset)
-        for i, j in zip(starts, ends, strict=True)
-    ]
