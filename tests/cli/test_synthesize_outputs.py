@@ -142,7 +142,7 @@ def test_sigint_stops_a_large_population_at_once_with_one_worker(tmp_path):
     task = _task(tmp_path)
     data = json.loads(task.read_text())
     data.pop("timing")
-    data["solver"] = {"population": 20_000, "restarts": 1}
+    data["solver"] = {"method": "de", "population": 20_000, "restarts": 1}
     task.write_text(json.dumps(data))
     env = {**__import__("os").environ, "PYTHONPATH": str(ROOT / "src")}
     out = tmp_path / "o.json"
