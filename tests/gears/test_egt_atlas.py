@@ -178,3 +178,20 @@ def test_cli_gear_atlas(capsys: pytest.CaptureFixture[str]) -> None:
     assert out.count("egt-r5") == 6
     assert main(["atlas", "--gears", "--links", "9"]) == 2
     assert capsys.readouterr().err.startswith("mjstruct atlas: --links: ")
+
+
+def test_displacements_are_numbered_as_their_train() -> None:
+    from mjstruct.gears.atlas import _code
+
+    for t in egt_atlas(6).trains:
+        for d in t.displacements:
+            assert _code("d", 6, t.gears, d.axes)[0] == d.canonical
+            tree = nx.Graph(d.turning)
+            assert nx.is_tree(tree) and tree.number_of_nodes() == 6
+            assert all(
+                set(e) <= set(d.axes[lv]) for e, lv in zip(d.turning, d.levels, strict=True)
+            )
+            for a, b, c in t.gears:
+                on = [{x, c} <= set(axis) for axis in d.axes for x in (a, b)]
+                assert sum(on) == 2  # a and b each on one axis with the carrier
+                assert not any({a, b} <= set(axis) for axis in d.axes)

@@ -1,7 +1,7 @@
 """The atlas of one-DOF epicyclic gear trains (EGTs): every non-isomorphic rotation
 graph with n links, each with its displacement graphs.
 
-The graph of an EGT [Buchsbaum & Freudenstein 1970]: vertices are links, edges are
+The graph of an EGT [Tsai & Freudenstein]: vertices are links, edges are
 turning pairs and gear pairs. A one-DOF train of n links has n - 1 turning pairs that
 form a spanning tree and n - 2 gear pairs (F = 3 (n - 1) - 2 (n - 1) - (n - 2) = 1).
 Each gear edge (a, b) closes a fundamental circuit with the tree path from a to b.
@@ -24,8 +24,8 @@ arrangement of the turning pairs inside a set of coaxial links is not part of ei
 
 References
 ----------
-[Buchsbaum & Freudenstein 1970], [Freudenstein 1971], [Tsai 1987], [Yang et al. 2019]
-in docs/references.md.
+[Tsai & Freudenstein] (Buchsbaum & Freudenstein 1970, Freudenstein 1971), [Tsai 1987],
+[PGT nine links 2019] in docs/references.md.
 
 Examples
 --------
@@ -45,7 +45,7 @@ import networkx as nx
 import numpy as np
 
 from mjstruct.errors import MechanismError, expect_int
-from mjstruct.structure.isomorphism import certificate_of, code_of
+from mjstruct.structure.isomorphism import certificate_of, code_of, nauty_call
 
 #: the largest atlas computed (7 links: about half a minute)
 MAX_LINKS = 7
@@ -60,7 +60,8 @@ Pair = tuple[int, int]
 class Displacement:
     """A displacement graph: the rotation graph with its axes, each the sorted links
     on one axis; ``turning`` one arrangement of the turning pairs (link pairs) with
-    ``levels``, the index of each pair's axis in ``axes``."""
+    ``levels``, the index of each pair's axis in ``axes``; links numbered as in its
+    train."""
 
     canonical: str
     axes: tuple[tuple[int, ...], ...]
@@ -127,7 +128,7 @@ def egt_atlas(n: int) -> EGTAtlas:
         raise MechanismError(f"n: the gear-train atlas has 3 to {MAX_LINKS} links, got {n}")
     rng = np.random.default_rng(RATIO_SEED)
     ratios = rng.uniform(0.3, 3.0, n) * rng.choice([-1.0, 1.0], n)
-    rotation: dict[str, tuple[tuple[int, int, int], ...]] = {}
+    rotation: dict[str, tuple[tuple[tuple[int, int, int], ...], list[int]]] = {}
     displaced: dict[str, dict[str, Displacement]] = {}
     for tree in nx.nonisomorphic_trees(n):
         edges = sorted((min(e), max(e)) for e in tree.edges())
@@ -135,13 +136,26 @@ def egt_atlas(n: int) -> EGTAtlas:
             if not willis_determined(n, gears, carriers, ratios):
                 continue
             triples = tuple((a, b, c) for (a, b), c in zip(gears, carriers, strict=True))
-            r = rotation_code(n, triples)
-            rotation.setdefault(r, triples)
+            r, lab = _code("r", n, triples, ())
+            _, first_lab = rotation.setdefault(r, (triples, lab))
             levels, axes = _levels(edges, runs)
-            d = displacement_code(n, triples, axes)
-            displaced.setdefault(r, {}).setdefault(d, Displacement(d, axes, tuple(edges), levels))
+            d, _ = _code("d", n, triples, axes)
+            if d in displaced.setdefault(r, {}):
+                continue
+            # number the links as in the train's first graph: equal canonical positions
+            to = {x: first_lab[lab.index(x)] for x in range(n)}
+            turning = [(min(to[a], to[b]), max(to[a], to[b])) for a, b in edges]
+            order = sorted(range(len(turning)), key=turning.__getitem__)
+            moved = [tuple(sorted(to[x] for x in axis)) for axis in axes]
+            names = sorted(range(len(moved)), key=moved.__getitem__)
+            displaced[r][d] = Displacement(
+                d,
+                tuple(moved[i] for i in names),
+                tuple(turning[k] for k in order),
+                tuple(names.index(levels[k]) for k in order),
+            )
     trains = tuple(
-        Train(r, n, rotation[r], tuple(displaced[r][d] for d in sorted(displaced[r])))
+        Train(r, n, rotation[r][0], tuple(displaced[r][d] for d in sorted(displaced[r])))
         for r in sorted(rotation)
     )
     return EGTAtlas(n, trains)
@@ -227,23 +241,11 @@ def willis_determined(
     return bool(np.all(apart | np.eye(n, dtype=bool)))
 
 
-def rotation_code(n: int, gears: tuple[tuple[int, int, int], ...]) -> str:
-    """Canonical code of a rotation graph: links, gear edges and, per gear edge, its
-    carrier (nauty, through :func:`~mjstruct.structure.isomorphism.certificate_of`)."""
-    return _code("r", n, gears, ())
-
-
-def displacement_code(
-    n: int, gears: tuple[tuple[int, int, int], ...], axes: tuple[tuple[int, ...], ...]
-) -> str:
-    """Canonical code of a displacement graph: the rotation graph and its axes (sets
-    of coaxial links)."""
-    return _code("d", n, gears, axes)
-
-
 def _code(
     prefix: str, n: int, gears: tuple[tuple[int, int, int], ...], axes: tuple[tuple[int, ...], ...]
-) -> str:
+) -> tuple[str, list[int]]:
+    """Canonical code of a rotation graph (``axes`` empty) or a displacement graph,
+    and nauty's canonical order of the links (``lab[i]``: the link at position i)."""
     # vertices: links, then one marker per gear edge; hyperedges: the gear edges (with
     # their marker), the carrier of each (with the marker), the axes
     g = len(gears)
@@ -258,5 +260,8 @@ def _code(
         range(v + g, v + 2 * g),
         range(v + 2 * g, v + 2 * g + len(axes)),
     ]
-    sizes, cert = certificate_of(v, joints, [c for c in colours if len(c)])
-    return code_of(f"egt-{prefix}", n, len(joints), sizes, cert)
+    classes = [c for c in colours if len(c)]
+    sizes, cert = certificate_of(v, joints, classes)
+    lab = nauty_call("canon_label", v, joints, classes)
+    assert isinstance(lab, list)
+    return code_of(f"egt-{prefix}", n, len(joints), sizes, cert), lab[:n]
