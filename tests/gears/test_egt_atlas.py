@@ -178,6 +178,13 @@ def test_cli_gear_atlas(capsys: pytest.CaptureFixture[str]) -> None:
     assert out.count("egt-r5") == 6
     assert main(["atlas", "--gears", "--links", "9"]) == 2
     assert capsys.readouterr().err.startswith("mjstruct atlas: --links: ")
+    for extra in (["--assur"], ["--mj"], ["--dof", "2"], ["--draw", "x.pdf"]):
+        assert main(["atlas", "--gears", "--links", "5", *extra]) == 2
+        err = capsys.readouterr().err
+        assert (
+            err.startswith(f"mjstruct atlas: {extra[0]}: not with --gears")
+            and "\n" not in err[:-1]
+        )
 
 
 def test_displacements_are_numbered_as_their_train() -> None:

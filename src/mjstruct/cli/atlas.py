@@ -57,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--links: need at least one link, got {args.links}")
     if args.workers < 1:
         raise MechanismError(f"--workers: need at least 1, got {args.workers}")
+    if args.gears:
+        _check_gear_flags(args)
     if args.draw is not None:
         _check_sheet(args)
     if args.assur:
@@ -199,6 +201,20 @@ def _run_assur(args: argparse.Namespace) -> int:
             )
     emit_text("\n".join(lines))
     return 0
+
+
+def _check_gear_flags(args: argparse.Namespace) -> None:
+    """``--gears`` lists one-DOF trains of simple turning pairs: refuse the chain flags."""
+    for flag, given in (
+        ("--assur", args.assur),
+        ("--mj", args.mj),
+        ("--fractionated", args.fractionated),
+        ("--draw", args.draw is not None),
+        ("--dof", args.dof != 1),
+        ("--scheduler", args.scheduler is not None),
+    ):
+        if given:
+            raise MechanismError(f"{flag}: not with --gears (the one-DOF gear-train atlas)")
 
 
 def _run_gears(args: argparse.Namespace) -> int:
