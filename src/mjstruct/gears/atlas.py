@@ -47,7 +47,7 @@ import numpy as np
 from mjstruct.errors import MechanismError, expect_int
 from mjstruct.structure.isomorphism import certificate_of, code_of, nauty_call
 
-#: the largest atlas computed (7 links: about half a minute)
+#: the largest atlas computed (7 links: about 6 s)
 MAX_LINKS = 7
 
 #: generic tooth ratios of the Willis equations (fixed seed: the atlas is deterministic)
@@ -136,13 +136,15 @@ def egt_atlas(n: int) -> EGTAtlas:
             if not willis_determined(n, gears, carriers, ratios):
                 continue
             triples = tuple((a, b, c) for (a, b), c in zip(gears, carriers, strict=True))
-            r, lab = _code("r", n, triples, ())
-            _, first_lab = rotation.setdefault(r, (triples, lab))
+            r = _code("r", n, triples, ())
+            if r not in rotation:
+                rotation[r] = (triples, _canonical_links(n, triples))
             levels, axes = _levels(edges, runs)
-            d, _ = _code("d", n, triples, axes)
+            d = _code("d", n, triples, axes)
             if d in displaced.setdefault(r, {}):
                 continue
             # number the links as in the train's first graph: equal canonical positions
+            first_lab, lab = rotation[r][1], _canonical_links(n, triples)
             to = {x: first_lab[lab.index(x)] for x in range(n)}
             turning = [(min(to[a], to[b]), max(to[a], to[b])) for a, b in edges]
             order = sorted(range(len(turning)), key=turning.__getitem__)
@@ -176,19 +178,47 @@ def _trains_on(
         g: [index[(min(p[i], p[i + 1]), max(p[i], p[i + 1]))] for i in range(len(p) - 1)]
         for g, p in paths.items()
     }
+    every = set(range(len(edges)))
     for gears in itertools.combinations(sorted(paths), n - 2):
-        spans = [range(1, len(paths[g]) - 1) for g in gears]
-        for cut in itertools.product(*spans):
-            runs: list[list[int]] = []
-            apart = []
-            for g, i in zip(gears, cut, strict=True):
-                es = path_edges[g]
-                runs += [es[:i], es[i:]]
-                apart.append((es[i - 1], es[i]))
-            level = _classes(len(edges), runs)
-            if all(level[x] != level[y] for x, y in apart):
-                carriers = tuple(paths[g][i] for g, i in zip(gears, cut, strict=True))
-                yield gears, carriers, runs
+        # a turning edge on no circuit splits the train in two parts that turn
+        # independently (rule 3 refuses it): skip without trying the cuts
+        if set().union(*(path_edges[g] for g in gears)) != every:
+            continue
+        yield from _cuts(gears, paths, path_edges, len(edges))
+
+
+def _cuts(
+    gears: tuple[Pair, ...],
+    paths: dict[Pair, list[int]],
+    path_edges: dict[Pair, list[int]],
+    m: int,
+) -> Iterator[tuple[tuple[Pair, ...], tuple[int, ...], list[list[int]]]]:
+    """Depth first over the gear edges: each transfer vertex merges its two runs into
+    two levels; a branch stops as soon as some circuit's two levels coincide."""
+
+    def deeper(
+        k: int, level: list[int], apart: list[tuple[int, int]], cut: list[int]
+    ) -> Iterator[tuple[int, ...]]:
+        if k == len(gears):
+            yield tuple(cut)
+            return
+        es = path_edges[gears[k]]
+        for i in range(1, len(es)):
+            new = level[:]
+            for run in (es[:i], es[i:]):
+                names = {new[e] for e in run}
+                keep = min(names)
+                new = [keep if x in names else x for x in new]
+            pairs = [*apart, (es[i - 1], es[i])]
+            if all(new[x] != new[y] for x, y in pairs):
+                yield from deeper(k + 1, new, pairs, [*cut, i])
+
+    for cut in deeper(0, list(range(m)), [], []):
+        runs: list[list[int]] = []
+        for g, i in zip(gears, cut, strict=True):
+            runs += [path_edges[g][:i], path_edges[g][i:]]
+        carriers = tuple(paths[g][i] for g, i in zip(gears, cut, strict=True))
+        yield gears, carriers, runs
 
 
 def _classes(m: int, runs: list[list[int]]) -> list[int]:
@@ -243,9 +273,24 @@ def willis_determined(
 
 def _code(
     prefix: str, n: int, gears: tuple[tuple[int, int, int], ...], axes: tuple[tuple[int, ...], ...]
-) -> tuple[str, list[int]]:
-    """Canonical code of a rotation graph (``axes`` empty) or a displacement graph,
-    and nauty's canonical order of the links (``lab[i]``: the link at position i)."""
+) -> str:
+    """Canonical code of a rotation graph (``axes`` empty) or a displacement graph."""
+    sizes, cert = certificate_of(*_incidence(n, gears, axes))
+    return code_of(f"egt-{prefix}", n, len(gears) * 2 + len(axes), sizes, cert)
+
+
+def _canonical_links(n: int, gears: tuple[tuple[int, int, int], ...]) -> list[int]:
+    """nauty's canonical order of the links of a rotation graph (the link at each
+    position)."""
+    lab = nauty_call("canon_label", *_incidence(n, gears, ()))
+    assert isinstance(lab, list)
+    return lab[:n]
+
+
+def _incidence(
+    n: int, gears: tuple[tuple[int, int, int], ...], axes: tuple[tuple[int, ...], ...]
+) -> tuple[int, list[list[int]], list[range]]:
+    """The coloured incidence structure of a rotation or displacement graph."""
     # vertices: links, then one marker per gear edge; hyperedges: the gear edges (with
     # their marker), the carrier of each (with the marker), the axes
     g = len(gears)
@@ -260,8 +305,4 @@ def _code(
         range(v + g, v + 2 * g),
         range(v + 2 * g, v + 2 * g + len(axes)),
     ]
-    classes = [c for c in colours if len(c)]
-    sizes, cert = certificate_of(v, joints, classes)
-    lab = nauty_call("canon_label", v, joints, classes)
-    assert isinstance(lab, list)
-    return code_of(f"egt-{prefix}", n, len(joints), sizes, cert), lab[:n]
+    return v, joints, [c for c in colours if len(c)]
