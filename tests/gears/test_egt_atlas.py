@@ -157,6 +157,13 @@ def test_rule_2_refuses_rigid_and_idle_trains() -> None:
     assert not willis_determined(5, ((1, 3), (2, 3)), (0, 0), ratios)
 
 
+def test_progress_counts_trees() -> None:
+    calls: list[tuple[int, int]] = []
+    egt_atlas(6, progress=lambda done, total: calls.append((done, total)))
+    # six links: six spanning trees
+    assert calls == [(k, 6) for k in range(7)]
+
+
 def test_bad_n() -> None:
     with pytest.raises(MechanismError, match=r"^n: "):
         egt_atlas(8)
@@ -178,7 +185,7 @@ def test_cli_gear_atlas(capsys: pytest.CaptureFixture[str]) -> None:
     assert out.count("egt-r5") == 6
     assert main(["atlas", "--gears", "--links", "9"]) == 2
     assert capsys.readouterr().err.startswith("mjstruct atlas: --links: ")
-    for extra in (["--assur"], ["--mj"], ["--dof", "2"], ["--draw", "x.pdf"]):
+    for extra in (["--assur"], ["--mj"], ["--dof", "2"], ["--draw", "x.pdf"], ["--workers", "2"]):
         assert main(["atlas", "--gears", "--links", "5", *extra]) == 2
         err = capsys.readouterr().err
         assert (

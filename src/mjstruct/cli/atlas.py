@@ -215,6 +215,8 @@ def _check_gear_flags(args: argparse.Namespace) -> None:
         ("--draw", args.draw is not None),
         ("--dof", args.dof != 1),
         ("--scheduler", args.scheduler is not None),
+        ("--workers", args.workers != 1),
+        ("--large", args.large),
     ):
         if given:
             raise MechanismError(f"{flag}: not with --gears (the one-DOF gear-train atlas)")
@@ -223,9 +225,11 @@ def _check_gear_flags(args: argparse.Namespace) -> None:
 def _run_gears(args: argparse.Namespace) -> int:
     """``mjstruct atlas --gears --links n``."""
     from mjstruct.gears.atlas import egt_atlas
+    from mjstruct.synthesis.parallel import ProgressBar
 
+    bar = ProgressBar.for_cli(f"gear trains n={args.links}", args.json)
     with flag_names(n="--links"):
-        a = egt_atlas(args.links)
+        a = egt_atlas(args.links, progress=bar)
     if args.json:
         emit_json(
             {

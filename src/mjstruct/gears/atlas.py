@@ -38,7 +38,7 @@ Examples
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import networkx as nx
@@ -113,9 +113,10 @@ class EGTAtlas:
         return sum(len(t.displacements) for t in self.trains)
 
 
-def egt_atlas(n: int) -> EGTAtlas:
+def egt_atlas(n: int, progress: Callable[[int, int], None] | None = None) -> EGTAtlas:
     """Every one-DOF EGT rotation graph with ``n`` links (3 <= n <= 7), each with its
-    displacement graphs, sorted by canonical code.
+    displacement graphs, sorted by canonical code. ``progress(done, total)`` is called
+    after each spanning tree (work counted in trees).
 
     >>> a = egt_atlas(4)
     >>> [t.gears for t in a.trains] == [t.gears for t in egt_atlas(4).trains]
@@ -130,7 +131,10 @@ def egt_atlas(n: int) -> EGTAtlas:
     ratios = rng.uniform(0.3, 3.0, n) * rng.choice([-1.0, 1.0], n)
     rotation: dict[str, tuple[tuple[tuple[int, int, int], ...], list[int]]] = {}
     displaced: dict[str, dict[str, Displacement]] = {}
-    for tree in nx.nonisomorphic_trees(n):
+    trees = list(nx.nonisomorphic_trees(n))
+    for done, tree in enumerate(trees):
+        if progress is not None:
+            progress(done, len(trees))
         edges = sorted((min(e), max(e)) for e in tree.edges())
         for gears, carriers, runs in _trains_on(tree, edges, n):
             if not willis_determined(n, gears, carriers, ratios):
@@ -156,6 +160,8 @@ def egt_atlas(n: int) -> EGTAtlas:
                 tuple(turning[k] for k in order),
                 tuple(names.index(levels[k]) for k in order),
             )
+    if progress is not None:
+        progress(len(trees), len(trees))
     trains = tuple(
         Train(r, n, rotation[r][0], tuple(displaced[r][d] for d in sorted(displaced[r])))
         for r in sorted(rotation)
