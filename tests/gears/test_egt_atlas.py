@@ -166,7 +166,7 @@ def test_progress_counts_trees() -> None:
 
 def test_bad_n() -> None:
     with pytest.raises(MechanismError, match=r"^n: "):
-        egt_atlas(8)
+        egt_atlas(9)
     with pytest.raises(MechanismError, match=r"^n: "):
         egt_atlas(2)
 
