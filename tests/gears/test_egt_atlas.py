@@ -209,3 +209,12 @@ def test_displacements_are_numbered_as_their_train() -> None:
                 on = [{x, c} <= set(axis) for axis in d.axes for x in (a, b)]
                 assert sum(on) == 2  # a and b each on one axis with the carrier
                 assert not any({a, b} <= set(axis) for axis in d.axes)
+
+
+def test_atlas_does_not_depend_on_the_generic_ratios(monkeypatch: pytest.MonkeyPatch) -> None:
+    import mjstruct.gears.atlas as module
+
+    before = [(t.canonical, [d.canonical for d in t.displacements]) for t in egt_atlas(6).trains]
+    monkeypatch.setattr(module, "RATIO_SEED", 2026)
+    after = [(t.canonical, [d.canonical for d in t.displacements]) for t in egt_atlas(6).trains]
+    assert after == before
