@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import itertools
 import json
+from collections.abc import Iterator
 from fractions import Fraction
 
 import networkx as nx
@@ -21,7 +22,7 @@ from mjstruct.gears.atlas import RATIO_SEED, egt_atlas, willis_determined
 
 
 def _partitions(items: list[int]) -> itertools.chain[list[list[int]]]:
-    def rec(xs: list[int]):  # type: ignore[no-untyped-def]
+    def rec(xs: list[int]) -> Iterator[list[list[int]]]:
         if not xs:
             yield []
             return
@@ -56,6 +57,7 @@ def _brute(n: int) -> tuple[list[nx.Graph], list[nx.Graph]]:
     union of runs (no two levels merged without a circuit saying so)."""
     rot: list[nx.Graph] = []
     dis: list[nx.Graph] = []
+    labelled: set[tuple[frozenset[tuple[int, int, int]], frozenset[frozenset[int]]]] = set()
 
     def add(found: list[nx.Graph], g: nx.Graph) -> None:
         # networkx's exact test, within buckets of equal Weisfeiler-Lehman hashes
@@ -71,8 +73,9 @@ def _brute(n: int) -> tuple[list[nx.Graph], list[nx.Graph]]:
         tree = nx.from_prufer_sequence(list(seq)) if n > 2 else nx.path_graph(n)
         edges = [tuple(sorted(e)) for e in tree.edges()]
         others = [p for p in itertools.combinations(range(n), 2) if not tree.has_edge(*p)]
+        path_of = {(a, b): nx.shortest_path(tree, a, b) for a, b in others}
         for gears in itertools.combinations(others, n - 2):
-            paths = [nx.shortest_path(tree, a, b) for a, b in gears]
+            paths = [path_of[g] for g in gears]
             for part in _partitions(list(range(len(edges)))):
                 level = {edges[e]: i for i, block in enumerate(part) for e in block}
                 meshes = []
@@ -96,6 +99,12 @@ def _brute(n: int) -> tuple[list[nx.Graph], list[nx.Graph]]:
                     continue
                 if not _willis_exact(n, tuple(meshes)):
                     continue
+                # the same labelled structure from another tree: nothing new
+                mesh_set = frozenset((min(a, b), max(a, b), c) for a, b, c in meshes)
+                axes = frozenset(frozenset(x for e in b for x in edges[e]) for b in part)
+                if (mesh_set, axes) in labelled:
+                    continue
+                labelled.add((mesh_set, axes))
                 g = nx.Graph()
                 g.add_nodes_from(range(n), kind="link")
                 for k, (a, b, c) in enumerate(meshes):
@@ -157,6 +166,14 @@ def test_rule_2_refuses_rigid_and_idle_trains() -> None:
     assert not willis_determined(5, ((1, 3), (2, 3)), (0, 0), ratios)
 
 
+def test_workers_give_the_same_atlas() -> None:
+    one = egt_atlas(6)
+    calls: list[tuple[int, int]] = []
+    two = egt_atlas(6, progress=lambda done, total: calls.append((done, total)), workers=2)
+    assert two == one
+    assert calls == [(k, 6) for k in range(7)]  # six links: six spanning trees
+
+
 def test_progress_counts_trees() -> None:
     calls: list[tuple[int, int]] = []
     egt_atlas(6, progress=lambda done, total: calls.append((done, total)))
@@ -185,7 +202,7 @@ def test_cli_gear_atlas(capsys: pytest.CaptureFixture[str]) -> None:
     assert out.count("egt-r5") == 6
     assert main(["atlas", "--gears", "--links", "9"]) == 2
     assert capsys.readouterr().err.startswith("mjstruct atlas: --links: ")
-    for extra in (["--assur"], ["--mj"], ["--dof", "2"], ["--draw", "x.pdf"], ["--workers", "2"]):
+    for extra in (["--assur"], ["--mj"], ["--dof", "2"], ["--draw", "x.pdf"]):
         assert main(["atlas", "--gears", "--links", "5", *extra]) == 2
         err = capsys.readouterr().err
         assert (

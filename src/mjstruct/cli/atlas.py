@@ -215,7 +215,6 @@ def _check_gear_flags(args: argparse.Namespace) -> None:
         ("--draw", args.draw is not None),
         ("--dof", args.dof != 1),
         ("--scheduler", args.scheduler is not None),
-        ("--workers", args.workers != 1),
         ("--large", args.large),
     ):
         if given:
@@ -228,8 +227,8 @@ def _run_gears(args: argparse.Namespace) -> int:
     from mjstruct.synthesis.parallel import ProgressBar
 
     bar = ProgressBar.for_cli(f"gear trains n={args.links}", args.json)
-    with flag_names(n="--links"):
-        a = egt_atlas(args.links, progress=bar)
+    with flag_names(n="--links", workers="--workers"):
+        a = egt_atlas(args.links, progress=bar, workers=args.workers)
     if args.json:
         emit_json(
             {

@@ -38,6 +38,7 @@ Examples
 from __future__ import annotations
 
 import itertools
+import multiprocessing
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
@@ -113,10 +114,13 @@ class EGTAtlas:
         return sum(len(t.displacements) for t in self.trains)
 
 
-def egt_atlas(n: int, progress: Callable[[int, int], None] | None = None) -> EGTAtlas:
+def egt_atlas(
+    n: int, progress: Callable[[int, int], None] | None = None, workers: int = 1
+) -> EGTAtlas:
     """Every one-DOF EGT rotation graph with ``n`` links (3 <= n <= 8), each with its
     displacement graphs, sorted by canonical code. ``progress(done, total)`` is called
-    after each spanning tree (work counted in trees).
+    after each spanning tree (work counted in trees); ``workers`` processes share the
+    trees (the result does not depend on their number).
 
     >>> a = egt_atlas(4)
     >>> [t.gears for t in a.trains] == [t.gears for t in egt_atlas(4).trains]
@@ -125,48 +129,99 @@ def egt_atlas(n: int, progress: Callable[[int, int], None] | None = None) -> EGT
     [1, 2]
     """
     n = expect_int(n, "n")
+    workers = expect_int(workers, "workers", 1)
     if not 3 <= n <= MAX_LINKS:
         raise MechanismError(f"n: the gear-train atlas has 3 to {MAX_LINKS} links, got {n}")
     rng = np.random.default_rng(RATIO_SEED)
     ratios = rng.uniform(0.3, 3.0, n) * rng.choice([-1.0, 1.0], n)
+    trees = [
+        (n, sorted((min(e), max(e)) for e in t.edges()), ratios) for t in nx.nonisomorphic_trees(n)
+    ]
+    if progress is not None:
+        progress(0, len(trees))
+    if workers == 1:
+        parts = []
+        for t in trees:
+            parts.append(_tree_part(t))
+            if progress is not None:
+                progress(len(parts), len(trees))
+    else:
+        with multiprocessing.get_context("spawn").Pool(min(workers, len(trees))) as pool:
+            parts = []
+            for part in pool.imap(_tree_part, trees):
+                parts.append(part)
+                if progress is not None:
+                    progress(len(parts), len(trees))
+    # merged in tree order: the same first representatives as one process finds
     rotation: dict[str, tuple[tuple[tuple[int, int, int], ...], list[int]]] = {}
     displaced: dict[str, dict[str, Displacement]] = {}
-    trees = list(nx.nonisomorphic_trees(n))
-    for done, tree in enumerate(trees):
-        if progress is not None:
-            progress(done, len(trees))
-        edges = sorted((min(e), max(e)) for e in tree.edges())
-        for gears, carriers, runs in _trains_on(tree, edges, n):
-            if not willis_determined(n, gears, carriers, ratios):
-                continue
-            triples = tuple((a, b, c) for (a, b), c in zip(gears, carriers, strict=True))
-            r = _code("r", n, triples, ())
-            if r not in rotation:
-                rotation[r] = (triples, _canonical_links(n, triples))
-            levels, axes = _levels(edges, runs)
-            d = _code("d", n, triples, axes)
-            if d in displaced.setdefault(r, {}):
-                continue
-            # number the links as in the train's first graph: equal canonical positions
-            first_lab, lab = rotation[r][1], _canonical_links(n, triples)
-            to = {x: first_lab[lab.index(x)] for x in range(n)}
-            turning = [(min(to[a], to[b]), max(to[a], to[b])) for a, b in edges]
-            order = sorted(range(len(turning)), key=turning.__getitem__)
-            moved = [tuple(sorted(to[x] for x in axis)) for axis in axes]
-            names = sorted(range(len(moved)), key=moved.__getitem__)
-            displaced[r][d] = Displacement(
-                d,
-                tuple(moved[i] for i in names),
-                tuple(turning[k] for k in order),
-                tuple(names.index(levels[k]) for k in order),
-            )
-    if progress is not None:
-        progress(len(trees), len(trees))
+    for edges, firsts, found in parts:
+        for r, triples, lab in firsts:
+            rotation.setdefault(r, (triples, lab))
+        for r, d, triples, levels, axes in found:
+            if d not in displaced.setdefault(r, {}):
+                displaced[r][d] = _renumbered(n, d, rotation[r][1], triples, edges, levels, axes)
     trains = tuple(
         Train(r, n, rotation[r][0], tuple(displaced[r][d] for d in sorted(displaced[r])))
         for r in sorted(rotation)
     )
     return EGTAtlas(n, trains)
+
+
+Found = tuple[
+    str, str, tuple[tuple[int, int, int], ...], tuple[int, ...], tuple[tuple[int, ...], ...]
+]
+
+
+def _tree_part(
+    job: tuple[int, list[Pair], np.ndarray],
+) -> tuple[list[Pair], list[tuple[str, tuple[tuple[int, int, int], ...], list[int]]], list[Found]]:
+    """The trains on one spanning tree: each rotation graph's first graph (with its
+    canonical link order) and each displacement graph's first, in the order found."""
+    n, edges, ratios = job
+    tree = nx.Graph(edges)
+    firsts: list[tuple[str, tuple[tuple[int, int, int], ...], list[int]]] = []
+    found: list[Found] = []
+    seen: set[str] = set()
+    for gears, carriers, runs in _trains_on(tree, edges, n):
+        if not willis_determined(n, gears, carriers, ratios):
+            continue
+        triples = tuple((a, b, c) for (a, b), c in zip(gears, carriers, strict=True))
+        r = _code("r", n, triples, ())
+        if r not in seen:
+            seen.add(r)
+            firsts.append((r, triples, _canonical_links(n, triples)))
+        levels, axes = _levels(edges, runs)
+        d = _code("d", n, triples, axes)
+        if d not in seen:
+            seen.add(d)
+            found.append((r, d, triples, levels, axes))
+    return edges, firsts, found
+
+
+def _renumbered(
+    n: int,
+    d: str,
+    first_lab: list[int],
+    triples: tuple[tuple[int, int, int], ...],
+    edges: list[Pair],
+    levels: tuple[int, ...],
+    axes: tuple[tuple[int, ...], ...],
+) -> Displacement:
+    """A displacement graph with its links numbered as in its train's first graph
+    (equal positions in nauty's canonical order)."""
+    lab = _canonical_links(n, triples)
+    to = {x: first_lab[lab.index(x)] for x in range(n)}
+    turning = [(min(to[a], to[b]), max(to[a], to[b])) for a, b in edges]
+    order = sorted(range(len(turning)), key=turning.__getitem__)
+    moved = [tuple(sorted(to[x] for x in axis)) for axis in axes]
+    names = sorted(range(len(moved)), key=moved.__getitem__)
+    return Displacement(
+        d,
+        tuple(moved[i] for i in names),
+        tuple(turning[k] for k in order),
+        tuple(names.index(levels[k]) for k in order),
+    )
 
 
 def _trains_on(
