@@ -155,7 +155,7 @@ def test_simple_planetary_is_in_the_atlas() -> None:
     assert sorted(len(d.axes) for d in train.displacements) == [2, 3]
 
 
-def test_rule_2_refuses_rigid_and_idle_trains() -> None:
+def test_rule_3_refuses_rigid_and_idle_trains() -> None:
     rng = np.random.default_rng(RATIO_SEED)
     ratios = rng.uniform(0.3, 3.0, 5) * rng.choice([-1.0, 1.0], 5)
     # three gears 1, 2, 3 meshing in a triangle on carrier 0: locked; link 4 idle

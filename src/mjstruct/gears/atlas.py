@@ -4,14 +4,15 @@ graph with n links, each with its displacement graphs.
 The graph of an EGT [Tsai & Freudenstein]: vertices are links, edges are
 turning pairs and gear pairs. A one-DOF train of n links has n - 1 turning pairs that
 form a spanning tree and n - 2 gear pairs (F = 3 (n - 1) - 2 (n - 1) - (n - 2) = 1).
-Each gear edge (a, b) closes a fundamental circuit with the tree path from a to b.
-The rules (their reasons are in docs/gears.md, "The atlas of epicyclic gear trains"):
+Each gear edge (a, b) closes a fundamental circuit with the tree path from a to b
+(rule 1). The other rules (their reasons are in docs/gears.md, "The atlas of
+epicyclic gear trains"):
 
-1. Each turning edge lies on a *level* (the axis of the pair). On the path of each
+2. Each turning edge lies on a *level* (the axis of the pair). On the path of each
    fundamental circuit there is exactly one *transfer vertex* c (the carrier): the
    edges from a to c lie on one level (a turns about it relative to c), those from c
    to b on another. Two edges share a level only when a circuit puts them in one run.
-2. With generic tooth ratios, the Willis equations of the circuits,
+3. With generic tooth ratios, the Willis equations of the circuits,
    ``(ω_a - ω_c) + k (ω_b - ω_c) = 0``, leave exactly one speed free besides a
    rotation of the whole train (F = 1), and no two links turn alike in every motion
    (no rigid sub-chain, no link that is not driven).
@@ -228,7 +229,7 @@ def _trains_on(
     tree: nx.Graph, edges: list[Pair], n: int
 ) -> Iterator[tuple[tuple[Pair, ...], tuple[int, ...], list[list[int]]]]:
     """Every choice of n - 2 gear edges on ``tree`` and of a transfer vertex on each
-    circuit that meets rule 1; with the runs of equal level (edge-index lists)."""
+    circuit that meets rule 2; with the runs of equal level (edge-index lists)."""
     index = {e: k for k, e in enumerate(edges)}
     paths = {
         (a, b): nx.shortest_path(tree, a, b)
@@ -315,7 +316,7 @@ def _levels(
 def willis_determined(
     n: int, gears: tuple[Pair, ...], carriers: tuple[int, ...], ratios: np.ndarray
 ) -> bool:
-    """Rule 2: the Willis equations with the generic ``ratios`` have rank n - 2, and no
+    """Rule 3: the Willis equations with the generic ``ratios`` have rank n - 2, and no
     two links have equal speeds in both solutions of their null space."""
     m = np.zeros((len(gears), n))
     for row, ((a, b), c) in enumerate(zip(gears, carriers, strict=True)):
