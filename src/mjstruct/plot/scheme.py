@@ -23,7 +23,14 @@ import numpy as np
 
 from mjstruct.plot.gear_artists import gear_artists
 from mjstruct.plot.placement import clearance, free_direction
-from mjstruct.plot.scene import Scene, anchor_arrays, duplicate_joint, guide_sides, vector_sites
+from mjstruct.plot.scene import (
+    Scene,
+    anchor_arrays,
+    anchor_joint,
+    duplicate_joint,
+    guide_sides,
+    vector_sites,
+)
 from mjstruct.plot.style import DRIVER_COLOUR, FRAME_COLOUR, GROUP_COLOURS, LINK_COLOUR
 from mjstruct.typing import ComplexArray
 
@@ -297,7 +304,7 @@ class SchemeArtists:
         # a rigid link keeps its shape: whether it is a bar is seen in the file's geometry
         # (every outline key is a joint's own centre there)
         centres = self.scene.model.geometry.centres
-        if is_bar(np.array([centres[key.split("/")[0]] for key in keys])):
+        if is_bar(np.array([centres[anchor_joint(key, centres)] for key in keys])):
             (bar,) = self.ax.plot(
                 [], [], lw=5, color=colour, solid_capstyle="round", zorder=3, gid=f"link:{link}"
             )
@@ -570,8 +577,9 @@ class SchemeArtists:
                 # a slider block: beside it, clear of its guide and its joint's label
                 z = complex(pts[0])
                 key = keys[0]
-                taken = self._taken.get(key, []) + self._taken.get(key.split("/")[0], [])
-                blocks = self._blocks_at(key.split("/")[0])
+                joint = anchor_joint(key, self.scene.model.geometry.centres)
+                taken = self._taken.get(key, []) + self._taken.get(joint, [])
+                blocks = self._blocks_at(joint)
                 guides = [self._direction(p, k) for p in blocks]
                 u = free_direction(np.array(taken + guides + [-g for g in guides], complex))
                 c = z + 3.3 * pin * u
