@@ -1,5 +1,6 @@
-"""Regenerate every image of docs/drawings.md (and the README picture, and the two
-pictures of docs/singular.md) from the shipped examples: ``python docs/make_images.py``
+"""Regenerate every image of docs/drawings.md (and the README picture, the two
+pictures of docs/singular.md and the function-synthesis chart of
+docs/synthesis-design.md) from the shipped examples: ``python docs/make_images.py``
 (about half a minute).
 
 Each image is made through the same functions the ``draw``, ``animate``, ``plot`` and
@@ -76,6 +77,21 @@ def explorer() -> None:
     )
 
 
+def synthesis() -> None:
+    """The function-synthesis chart of docs/synthesis-design.md: the shipped task
+    ``function-log10`` synthesised (seed 0) and drawn as ``--targets-chart`` draws it."""
+    from mjstruct.design.api import load_task, synthesize
+    from mjstruct.plot.design_charts import draw_targets
+
+    root = Path(__file__).resolve().parent.parent
+    result = synthesize(load_task(str(root / "catalogs" / "tasks" / "function-log10.json")))
+    fig = draw_targets(result.mechanism)
+    write_atomically(
+        str(IMG / "synthesis-function-log10.png"), lambda tmp: fig.savefig(tmp, dpi=90)
+    )
+    plt.close(fig)
+
+
 def main() -> int:
     start = time.perf_counter()
     # the README picture: radial engine, Assur groups and velocity vectors
@@ -102,6 +118,7 @@ def main() -> int:
     write_atlas_sheet(chains[12:30], str(IMG / "atlas-sheet.png"), title="F = 1, n = 8 (part)")
     singular()
     explorer()
+    synthesis()
     sys.stdout.write(f"images written to {IMG} in {time.perf_counter() - start:.1f} s\n")
     return 0
 

@@ -119,3 +119,43 @@ def test_bad_targets_and_a_file_without_them_name_the_field(tmp_path, capsys):
     assert "layer 'targets' needs a synthesised mechanism file" in capsys.readouterr().err
     # an analysed mechanism drawn with paths: no targets, no complaint
     assert main(["draw", str(example_path("four-bar")), "--show", "paths", "-o", out]) == 0
+
+
+def test_function_chart_puts_the_targets_where_the_design_meets_them():
+    # issue 38.1: the chart drew the targets without the angle offset the search found,
+    # and in radians; targets from the kinematics (an independent oracle) shifted by a
+    # known offset must sit on the output curve, in degrees as every chart against q
+    from mjstruct.plot.design_charts import draw_targets
+
+    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=12, checks=False)
+    q = r.q[2:8, 0]
+    angle = r.links["3"]["angle"][2:8]
+    offset = -1.2
+    task = {"task": "function", "link": "3", "timed": True, "angle_offset": offset,
+            "targets": [[float(a), float(b - offset)] for a, b in zip(q, angle, strict=True)],
+            "timing": [float(a) for a in q]}  # fmt: skip
+    fig = draw_targets(mechanism_from_dict(synthesised(task)))
+    ax = fig.axes[0]
+    (curve,) = artists(ax, "output")
+    (marks,) = artists(ax, "targets")
+    x, y = curve.get_xydata().T
+    ok = np.isfinite(y)
+    tx, ty = marks.get_xydata().T
+    assert np.allclose(tx, np.degrees(q) % 360.0)
+    assert np.allclose(ty, np.interp(tx, x[ok], y[ok]), atol=0.05)  # degrees
+    assert np.allclose((ty - np.degrees(angle) + 180.0) % 360.0, 180.0)
+    assert "(°)" in ax.get_xlabel() and "(°)" in ax.get_ylabel()
+    assert "offset -68.75°" in marks.get_label()
+
+
+def test_footer_says_untimed_targets_are_untimed():
+    # issue 38.4: a synthesised file keeps the driver values as met for untimed targets
+    # too; the footer said "(timed)" for them
+    task, _ = path_task()
+    for timed, words in ((False, "(untimed: in their order over a cycle)"), (True, "(timed)")):
+        entry = {**task, "timing": [0.1 * k for k in range(len(task["targets"]))],
+                 "timed": timed}  # fmt: skip
+        model = KinematicModel.build(mechanism_from_dict(synthesised(entry)))
+        (about,) = artists(draw_scene(scene_at(model, layers=("paths",))), "targets:about")
+        assert about.get_text().endswith(words)
+        assert ("(timed)" in about.get_text()) == timed
