@@ -159,3 +159,56 @@ def test_footer_says_untimed_targets_are_untimed():
         (about,) = artists(draw_scene(scene_at(model, layers=("paths",))), "targets:about")
         assert about.get_text().endswith(words)
         assert ("(timed)" in about.get_text()) == timed
+
+
+def test_a_link_that_carries_a_point_is_the_plate_through_it_in_every_frame():
+    # issue 38.5: the four-bar's coupler point M was a dot floating beside bar A-B
+    from matplotlib.path import Path
+
+    from mjstruct.plot.animation import FrameRenderer
+
+    m = read_mechanism(example_path("four-bar"))
+    r = kinematic_analysis(m, frames=6, checks=False)  # the oracle: another entry point
+    scene = scene_over_cycle(KinematicModel.build(m), 6, ())
+    renderer = FrameRenderer(scene, dpi=30)
+    for k in (0, 3):
+        renderer.drawing.show(k)
+        (plate,) = artists(renderer.drawing.ax, "link:2")
+        outline = Path(plate.get_xy())
+        corners = [complex(r.joints[j]["x"][k], r.joints[j]["y"][k]) for j in ("A", "B")]
+        corners.append(complex(r.points["M"]["x"][k], r.points["M"]["y"][k]))
+        # each of A, B and M is a corner of the plate (the hull of three points)
+        xy = plate.get_xy()
+        for z in corners:
+            assert np.min(np.hypot(xy[:, 0] - z.real, xy[:, 1] - z.imag)) < 1e-9
+        inside = sum(corners) / 3
+        assert outline.contains_point((inside.real, inside.imag))
+
+
+def test_labels_keep_off_the_target_crosses():
+    # issue 38.5: a label over a target cross hid it; crosses put where the labels of
+    # the plain drawing are must push those labels elsewhere
+    def labels_at(data: dict) -> tuple[list, np.ndarray]:
+        plt.close("all")
+        scene = scene_at(KinematicModel.build(mechanism_from_dict(data)), 1.0, ("paths",))
+        ax = draw_scene(scene)
+        fig = ax.get_figure()
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        found = [a for a in artists(ax, "label") if a.get_gid().startswith("label:")]
+        boxes = [a.get_window_extent(renderer) for a in found]
+        return list(zip(found, boxes, strict=True)), ax.transData
+
+    plain = mechanism_to_dict(read_mechanism(example_path("four-bar")))
+    before, to_data = labels_at(plain)
+    names = ("label:joint:A", "label:joint:B", "label:point:M", "label:link:2")
+    spots = [b for a, b in before if a.get_gid() in names]
+    assert len(spots) == 4
+    centres = np.array([[(b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2] for b in spots])
+    targets = to_data.inverted().transform(centres)
+    task = {"task": "path", "point": "M", "targets": targets.tolist()}
+    after, to_data = labels_at(synthesised(task))
+    crosses = to_data.transform(targets)
+    for label, box in after:
+        for x, y in crosses:
+            assert not box.contains(x, y), label.get_gid()

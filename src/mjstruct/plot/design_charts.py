@@ -101,21 +101,23 @@ def draw_targets(
     if entry.get("task") == "function":
         _function_chart(ax, model, motion, entry)
     else:
+        from mjstruct.plot.scheme import plate_outline
+
         g = model.geometry
         for link in m.links:
-            ids = [j for j in m.link_joints[link]]
-            pts = [g.centres[j] for j in ids]
+            pts = [g.centres[j] for j in m.link_joints[link]]
             if link == m.frame:
                 ax.plot([z.real for z in pts], [z.imag for z in pts], "k^", ms=8)
                 continue
-            loop = pts + pts[:1] if len(pts) > 2 else pts
+            # the link as the part: the hull of its joints and the points it carries
+            pts += [z for on, z in g.points.values() if on == link]
+            hull = list(plate_outline(np.array(pts, complex)))
+            loop = hull + hull[:1] if len(hull) > 2 else hull
             ax.plot([z.real for z in loop], [z.imag for z in loop], "-", color="0.35", lw=2)
         point = entry["point"]
         if point in g.points:
             link, z0 = g.points[point]
             path = motion.point(link, z0)[0]
-            anchor = g.centres[next(iter(m.link_joints[link]))]
-            ax.plot([anchor.real, z0.real], [anchor.imag, z0.imag], ":", color="0.35")
         else:
             path = motion.centre(point)[0]
             z0 = g.centres[point]
