@@ -260,7 +260,7 @@ def race_geng(
     import shutil
     import time
 
-    from mjstruct.synthesis.atlas import chain_code
+    from mjstruct.synthesis.canonical_chains import chain_code
     from timing import race
 
     if shutil.which(GENG) is None:

@@ -111,8 +111,8 @@ def explorer_goal(repeat: int) -> None:
     """The explorer's updates against one drawing, in one process."""
     from itertools import cycle
 
-    from mjstruct.kinematics.singular import singular_analysis
     from mjstruct.plot.explorer_view import ExplorerView
+    from mjstruct.singular.analysis import singular_analysis
 
     m = read_mechanism(example_path("six-bar-mj-slider"))
     model = KinematicModel.build(m)

@@ -22,11 +22,11 @@ import numpy as np
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import mechanism_from_dict, read_mechanism
-from mjstruct.kinematics.clearance import formula3, leading_order_zone
-from mjstruct.kinematics.fourbar import REFERENCE_MATRICES, fourbar_singular_angles
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.kinematics.singular import singular_analysis
-from mjstruct.kinematics.singular_curve import ClosureEquations
+from mjstruct.singular.analysis import singular_analysis
+from mjstruct.singular.clearance import formula3, leading_order_zone
+from mjstruct.singular.curve import ClosureEquations
+from mjstruct.singular.fourbar import REFERENCE_MATRICES, fourbar_singular_angles
 from timing import race
 
 FRAMES = 3600

@@ -49,8 +49,8 @@ def chart(out: str, name: str, what: str, speed: float = 1.0, frames: int = 360)
 
 def singular() -> None:
     """The P2-P3 diagram with MS4 and MS4's clearance zones (docs/singular.md)."""
-    from mjstruct.kinematics.singular import singular_analysis
     from mjstruct.plot.ms_diagram import ms_point, plot_ms_diagram, plot_singular_zones
+    from mjstruct.singular.analysis import singular_analysis
 
     ms4 = read_mechanism(example_path("fourbar-ms4"))
     p1, p2, p3 = ms_point(ms4)

@@ -127,6 +127,7 @@ SUBPACKAGES = (
     "exchange",
     "kinematics",
     "plot",
+    "singular",
     "structure",
     "synthesis",
 )

@@ -18,8 +18,8 @@ import pytest
 import mjstruct
 import mjstruct.dynamics.analysis
 import mjstruct.dynamics.data
-import mjstruct.kinematics.singular
 import mjstruct.kinematics.solver
+import mjstruct.singular.analysis
 from mjstruct.io import read_mechanism
 from mjstruct.kinematics.model import KinematicModel
 from project_paths import EXAMPLES

@@ -22,6 +22,17 @@ def _svg_of(obj: object) -> str | None:
 
 importlib.import_module("mjstruct.display").set_svg_renderer(_svg_of)
 
+
+def _name_singular_frames(r: Any, frames: Any) -> list[str | None]:
+    """The kinematics' flagged frames named by the singular-positions unit (above it),
+    imported only when a frame is flagged."""
+    from mjstruct.singular.analysis import name_flagged_frames
+
+    return name_flagged_frames(r, frames)
+
+
+importlib.import_module("mjstruct.singular_seam").set_singular_namer(_name_singular_frames)
+
 _EXPORTS: dict[str, str] = {
     "Mechanism": "mjstruct.mechanism",
     "Joint": "mjstruct.mechanism",
@@ -87,12 +98,12 @@ _EXPORTS: dict[str, str] = {
     "plan_kinematics": "mjstruct.kinematics.planner",
     "read_geometry": "mjstruct.kinematics.geometry",
     "jacobian_at_reference": "mjstruct.kinematics.jacobian",
-    "singular_analysis": "mjstruct.kinematics.singular",
-    "SingularAnalysis": "mjstruct.kinematics.singular",
-    "SingularPosition": "mjstruct.kinematics.singular",
-    "classify_singular_frames": "mjstruct.kinematics.singular",
-    "fourbar_theory": "mjstruct.kinematics.fourbar",
-    "FourBar": "mjstruct.kinematics.fourbar",
+    "singular_analysis": "mjstruct.singular.analysis",
+    "SingularAnalysis": "mjstruct.singular.analysis",
+    "SingularPosition": "mjstruct.singular.analysis",
+    "classify_singular_frames": "mjstruct.singular.analysis",
+    "fourbar_theory": "mjstruct.singular.fourbar",
+    "FourBar": "mjstruct.singular.fourbar",
     "plot_ms_diagram": "mjstruct.plot.ms_diagram",
     "plot_singular_zones": "mjstruct.plot.ms_diagram",
     "atlas": "mjstruct.synthesis.atlas",
@@ -233,10 +244,6 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         read_mechanism,
         to_networkx,
     )
-    from mjstruct.kinematics.fourbar import (
-        FourBar,
-        fourbar_theory,
-    )
     from mjstruct.kinematics.geometry import (
         read_geometry,
     )
@@ -249,12 +256,6 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
     )
     from mjstruct.kinematics.planner import (
         plan_kinematics,
-    )
-    from mjstruct.kinematics.singular import (
-        SingularAnalysis,
-        SingularPosition,
-        classify_singular_frames,
-        singular_analysis,
     )
     from mjstruct.kinematics.solver import (
         KinematicsResult,
@@ -294,6 +295,16 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         StructuralReport,
         code_report,
         structural_report,
+    )
+    from mjstruct.singular.analysis import (
+        SingularAnalysis,
+        SingularPosition,
+        classify_singular_frames,
+        singular_analysis,
+    )
+    from mjstruct.singular.fourbar import (
+        FourBar,
+        fourbar_theory,
     )
     from mjstruct.structure.assortments import (
         Assortment,

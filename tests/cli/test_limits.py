@@ -38,7 +38,7 @@ def test_large_but_representable_clearance_is_answered(capsys: pytest.CaptureFix
 def test_library_clearance_overflow_names_the_parameter() -> None:
     from mjstruct.errors import MechanismError
     from mjstruct.io import read_mechanism
-    from mjstruct.kinematics.singular import singular_analysis
+    from mjstruct.singular.analysis import singular_analysis
 
     m = read_mechanism(example_path("four-bar"))
     with pytest.raises(MechanismError, match=r"^clearance: 1e\+308 is too large"):

@@ -457,9 +457,9 @@ def test_ms_diagram_chart_marks_the_four_bar():
 
 
 def test_singular_zones_are_drawn_on_the_scheme():
-    from mjstruct.kinematics.singular import singular_analysis
     from mjstruct.plot.drawing import artists
     from mjstruct.plot.ms_diagram import plot_singular_zones
+    from mjstruct.singular.analysis import singular_analysis
 
     m = read_mechanism(example_path("fourbar-ms4"))
     analysis = singular_analysis(m, clearance=0.02)

@@ -10,8 +10,8 @@ import pytest
 from mjstruct.catalog_files import example_path
 from mjstruct.io import mechanism_from_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.kinematics.singular import singular_analysis
 from mjstruct.kinematics.solver import kinematic_analysis
+from mjstruct.singular.analysis import singular_analysis
 
 
 def _triad(prismatic_c: bool) -> KinematicModel:

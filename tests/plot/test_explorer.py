@@ -16,9 +16,9 @@ import pytest
 
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict, read_mechanism
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.kinematics.singular import singular_analysis
 from mjstruct.plot.drawing import artists
 from mjstruct.plot.explorer_view import ExplorerView
+from mjstruct.singular.analysis import singular_analysis
 from project_paths import EXAMPLES
 
 SIX_BAR = EXAMPLES / "six-bar-mj-slider.json"

@@ -57,8 +57,8 @@ def test_svg_element_ids_are_unique(tmp_path, name, layers, speed):
 
 
 def test_chart_and_zone_svgs_have_unique_ids(tmp_path):
-    from mjstruct.kinematics.singular import singular_analysis
     from mjstruct.plot.ms_diagram import plot_singular_zones
+    from mjstruct.singular.analysis import singular_analysis
 
     m = read_mechanism(example_path("fourbar-ms4"))
     figures = [

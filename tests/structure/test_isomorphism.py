@@ -16,7 +16,8 @@ from mjstruct.io import read_mechanism
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.invariants import mj_link_sets, seed_invariants
 from mjstruct.structure.isomorphism import canonical_code
-from mjstruct.synthesis.atlas import atlas, chain_code
+from mjstruct.synthesis.atlas import atlas
+from mjstruct.synthesis.canonical_chains import chain_code
 from project_paths import ROOT
 
 PAIR = [ROOT / "catalogs" / "examples" / f"iso-counterexample-{k}.json" for k in "ab"]

@@ -582,7 +582,8 @@ def _small_contracted_graphs() -> list:
 def test_one_distribution_per_chain_and_none_missing() -> None:
     """chain_distributions against every composition tested and deduplicated by nauty
     certificates; with threshold 0 too (the Assur atlas's minimal rigid chains)."""
-    from mjstruct.synthesis.atlas import chain_code, compositions, expand
+    from mjstruct.synthesis.atlas import compositions, expand
+    from mjstruct.synthesis.canonical_chains import chain_code
     from mjstruct.synthesis.distributions import (
         admissible_distributions,
         chain_distributions,

@@ -13,7 +13,8 @@ from mjstruct.io import read_mechanism
 from mjstruct.structure.isomorphism import canonical_code
 from mjstruct.synthesis.admissibility import is_admissible
 from mjstruct.synthesis.atlas import atlas
-from mjstruct.synthesis.catalog import SHIPPED, catalog_records, lookup, read_catalog
+from mjstruct.synthesis.catalog import SHIPPED, lookup, read_catalog
+from mjstruct.synthesis.catalog_build import catalog_records
 from project_paths import ROOT
 
 EXAMPLES = sorted((ROOT / "catalogs" / "examples").glob("*.json"))
@@ -314,7 +315,7 @@ def test_interrupted_catalog_writing_keeps_the_old_files(
 ) -> None:
     import os
 
-    from mjstruct.synthesis import catalog
+    from mjstruct.synthesis import catalog, catalog_build
 
     monkeypatch.setattr(catalog, "SHIPPED", ((1, 4), (2, 5)))
     old = tmp_path / "f2-n05.jsonl"
@@ -330,7 +331,7 @@ def test_interrupted_catalog_writing_keeps_the_old_files(
 
     monkeypatch.setattr(os, "replace", interrupt_second)
     with pytest.raises(KeyboardInterrupt):
-        catalog.write_catalogs(tmp_path)
+        catalog_build.write_catalogs(tmp_path)
     assert old.read_text() == "old\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f1-n04.jsonl", "f2-n05.jsonl"]
     assert [json.loads(x)["id"] for x in (tmp_path / "f1-n04.jsonl").read_text().splitlines()] == [

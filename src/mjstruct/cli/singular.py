@@ -24,8 +24,8 @@ from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.singular import SingularAnalysis, SingularPosition
     from mjstruct.mechanism import Mechanism
+    from mjstruct.singular.analysis import SingularAnalysis, SingularPosition
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -45,8 +45,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from mjstruct.io import read_mechanism
-    from mjstruct.kinematics.singular import singular_analysis
     from mjstruct.kinematics.tolerances import MAX_CLEARANCE
+    from mjstruct.singular.analysis import singular_analysis
 
     if args.clearance is not None and not (math.isfinite(args.clearance) and args.clearance >= 0):
         raise MechanismError(f"--clearance: must be a finite number >= 0, got {args.clearance}")
@@ -148,7 +148,7 @@ def _zone_method(method: str, lam: float | None, delta: float | None) -> str:
 
 
 def render(r: SingularAnalysis) -> str:
-    """The text report of :func:`mjstruct.kinematics.singular.singular_analysis`."""
+    """The text report of :func:`mjstruct.singular.analysis.singular_analysis`."""
     unit = "deg" if r.revolute else ""
     lines = [f"input: joint {r.input}    output: link {r.output}"]
     if r.input_range.full_turn:

@@ -103,8 +103,8 @@ def _singular_report(m: Any) -> str:
     task's clearance kept in the file, their zones)."""
     from mjstruct.cli.singular import file_clearance
     from mjstruct.cli.singular import render as render_singular
-    from mjstruct.kinematics.singular import singular_analysis
     from mjstruct.kinematics.tolerances import MAX_CLEARANCE
+    from mjstruct.singular.analysis import singular_analysis
 
     lines = []
     for point in m.points:  # the coupler point: where it is, in the task's terms

@@ -6,7 +6,7 @@ positions [Four-bar clearances]:
 1. **the diagram**: at a fixed input length ``P1`` the lines of system (4)
    (``1 + P1 = P2 + P3``, ``1 + P2 = P1 + P3``, ``1 + P3 = P1 + P2``) cut the plane of
    ``(P2, P3)`` into regions of motion (crank-rocker, double-crank, double-rocker), as
-   :func:`~mjstruct.kinematics.fourbar.fourbar_theory` classifies every point;
+   :func:`~mjstruct.singular.fourbar.fourbar_theory` classifies every point;
 2. **structural-parametric synthesis**: the singularity matrix ``MS = [P1 P2 P3]`` —
    a reference matrix by name (MS1 ... MS5), given, or solved from a requirement on one
    line of (4) (the motion, the output swing, an exact dwell, the time ratio) — and the
@@ -14,7 +14,7 @@ positions [Four-bar clearances]:
 3. **the working mechanism**: scaled to the frame length, built at a reference
    configuration in that assembly mode, with its singular positions and, given a
    clearance, their zones, from the singular plug-in
-   (:func:`~mjstruct.kinematics.singular.singular_analysis` run on the built mechanism).
+   (:func:`~mjstruct.singular.analysis.singular_analysis` run on the built mechanism).
 
 **The requirement solve.** On line (4.k) ``P3`` is an affine function of ``(P1, P2)``,
 so two conditions fix the point.  ``P1`` given, ``P2`` given and ``dwell`` (``P2 = P1``,
@@ -62,10 +62,10 @@ import numpy as np
 
 from mjstruct.design.result import SYNTHESIS_KEY, DesignResult
 from mjstruct.errors import MechanismError, NumericalError, expect_number
-from mjstruct.kinematics.fourbar import REFERENCE_MATRICES, TIE, fourbar_theory
-from mjstruct.kinematics.singular import singular_analysis
 from mjstruct.mechanism import Joint, Mechanism, Point
 from mjstruct.output_numbers import json_number
+from mjstruct.singular.analysis import singular_analysis
+from mjstruct.singular.fourbar import REFERENCE_MATRICES, TIE, fourbar_theory
 
 TASK = "fourbar-ms"
 #: the lines of system (4) by the name a task gives them
@@ -158,7 +158,7 @@ class MSSolution:
     method : ``"point"`` (two restrictions fix it), ``"root find"`` (1-D, Brent's
         method along a segment of the diagram) or ``"nested root find"`` (2-D).
     free : the lengths solved for.
-    evaluations : calls of :func:`~mjstruct.kinematics.fourbar.fourbar_theory`.
+    evaluations : calls of :func:`~mjstruct.singular.fourbar.fourbar_theory`.
     others : further solutions of the same requirement (the chosen one has the
         smallest ratio of the longest to the shortest link).
     defaults : conditions the task did not give and the solve assumed

@@ -59,9 +59,9 @@ from mjstruct.design.task import Task
 from mjstruct.design.verify import check_motion
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict
 from mjstruct.kinematics.evaluate import Evaluation
-from mjstruct.kinematics.fourbar import fourbar_theory
 from mjstruct.kinematics.model import KinematicModel
 from mjstruct.mechanism import Mechanism
+from mjstruct.singular.fourbar import fourbar_theory
 from mjstruct.typing import ComplexArray, FloatArray
 
 TWO_PI = 2 * math.pi

@@ -43,7 +43,7 @@ from mjstruct.kinematics.steps.base import Modes
 from mjstruct.kinematics.tolerances import DISC_SLACK, MEET, WATCH
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
@@ -119,7 +119,7 @@ class BranchEvent:
 
 
 def _sine(
-    model: KinematicModel, q: FloatArray, K: Modes, k: int, t: FloatArray | None = None
+    model: ModelView, q: FloatArray, K: Modes, k: int, t: FloatArray | None = None
 ) -> FloatArray:
     ev = evaluate(model, q, order=0, K=K, t=t, only=model.step_dependencies[k])
     return masked_sine(*ev.diag[k])
@@ -139,9 +139,7 @@ def _modes_at(K: Modes, i: int, steps: Sequence[int] | None = None) -> dict[int,
     return {k: (int(v[i]) if isinstance(v, np.ndarray) else int(v)) for k in keys for v in (K[k],)}
 
 
-def _refine_min(
-    model: KinematicModel, q: FloatArray, K: Modes, k: int, i: int
-) -> tuple[float, float]:
+def _refine_min(model: ModelView, q: FloatArray, K: Modes, k: int, i: int) -> tuple[float, float]:
     """Smallest |sine| of step k between frames i-1 and i+1 (zooming, vectorised)."""
     lo, hi = q[i - 1], q[i + 1]
     Ki = _modes_at(K, i, model.step_dependencies[k])
@@ -158,7 +156,7 @@ def _refine_min(
     return best_s, best_q
 
 
-def _boundary(model: KinematicModel, a: FloatArray, b: FloatArray, K: Modes, k: int) -> float:
+def _boundary(model: ModelView, a: FloatArray, b: FloatArray, K: Modes, k: int) -> float:
     """q where step k stops assembling between a (feasible) and b (not), by bisection."""
     for _ in range(3):
         qs = a + (b - a) * np.linspace(0.0, 1.0, 65)[:, None]
@@ -182,7 +180,7 @@ ClosureSolves = dict[tuple[bytes, bytes], tuple[FloatArray, bool]]
 
 
 def _closure_boundary(
-    model: KinematicModel,
+    model: ModelView,
     a: FloatArray,
     b: FloatArray,
     ta: FloatArray,
@@ -218,7 +216,7 @@ def _closure_boundary(
 
 
 def track_branches(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray | None = None,
     first: Evaluation | None = None,
@@ -331,7 +329,7 @@ def _sines_of_flips(events: list[BranchEvent], K: FrameModes, ev: Evaluation | N
             events[n] = dataclasses.replace(e, sine=sine)
 
 
-def _closure_dependent(model: KinematicModel) -> frozenset[int]:
+def _closure_dependent(model: ModelView) -> frozenset[int]:
     """Steps that depend on a closure unknown (they have no value where it does not close)."""
     steps = model.plan.steps
     assumed = {k for k, s in enumerate(steps) if s.kind in ("assume", "assume-slide")}
@@ -341,7 +339,7 @@ def _closure_dependent(model: KinematicModel) -> frozenset[int]:
 
 
 def _stop_between(
-    model: KinematicModel,
+    model: ModelView,
     stops: Sequence[tuple[FloatArray, FloatArray, Modes | None]],
     a: FloatArray,
     b: FloatArray,
@@ -368,7 +366,7 @@ GROUP_SINGULAR = 1e-4
 
 
 def _closure_limits(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     closed: BoolArray,
@@ -468,7 +466,7 @@ def _near_event(events: list[BranchEvent], k: int, i: int) -> bool:
 
 
 def _smoother_flipped(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     K: FrameModes,
     k: int,
@@ -510,7 +508,7 @@ LIMIT_AGREE = 1e-2
 
 
 def fill_change_frames(
-    model: KinematicModel, q: FloatArray, events: Sequence[BranchEvent], ev: Evaluation
+    model: ModelView, q: FloatArray, events: Sequence[BranchEvent], ev: Evaluation
 ) -> list[BranchEvent]:
     """Positions at frames where a dyad is undefined but the motion passes through.
 

@@ -24,7 +24,6 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
 from typing import Any, Literal
 
@@ -37,6 +36,7 @@ from mjstruct.kinematics.jacobian import check_jacobian, one_blas_thread
 from mjstruct.kinematics.model import Motion
 from mjstruct.kinematics.result import KinematicsResult
 from mjstruct.kinematics.tolerances import NEAR_SINGULAR
+from mjstruct.singular_seam import singular_namer
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -395,9 +395,6 @@ def _jacobian_checks(r: KinematicsResult, motion: Motion) -> None:
         )
 
 
-#: kinds are named for mechanisms up to this many links (the singular analysis traces
-#: the curve with dense SVDs: 0.1-0.4 s up to 16 links, 6.4 s at 62)
-KINDS_MAX_LINKS = 16
 #: the words for the kinds of singular position in the warnings
 KIND_WORDS = {
     "input_limit": "input limit",
@@ -407,30 +404,9 @@ KIND_WORDS = {
 
 
 def _kinds(r: KinematicsResult, frames: npt.NDArray[np.intp]) -> list[str | None]:
-    """Kind of the singular position at each flagged frame (None: not identified).
-
-    From :func:`~mjstruct.kinematics.singular.singular_analysis` (one driver, F = 1;
-    its positions are located to 1e-9 in q) within one frame step of each frame; run
-    only when frames are flagged (it traces the whole curve), and only up to
-    :data:`KINDS_MAX_LINKS` links.
-    """
-    from mjstruct.errors import MechanismError, NumericalError
-    from mjstruct.kinematics.singular import classify_singular_frames, singular_analysis
-
-    none: list[str | None] = [None] * len(frames)
-    drivers = r.plan.drivers
-    if len(drivers) != 1 or len(r.mechanism.links) > KINDS_MAX_LINKS:
-        return none
-    m = r.mechanism
-    if tuple(m.drivers) != drivers:
-        m = dataclasses.replace(m, drivers=drivers)
-    try:
-        a = singular_analysis(m)
-    except (MechanismError, NumericalError):
-        return none
-    q = r.q[:, 0]
-    step = float(np.abs(np.diff(q)).max()) if q.size > 1 else 2 * np.pi
-    return classify_singular_frames(a, q[frames], tol=step)
+    """Kind of the singular position at each flagged frame (None: not identified)."""
+    namer = singular_namer()
+    return [None] * len(frames) if namer is None else namer(r, frames)
 
 
 def _kinds_text(r: KinematicsResult, frames: npt.NDArray[np.intp], kinds: list[str | None]) -> str:

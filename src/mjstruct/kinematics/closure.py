@@ -78,7 +78,7 @@ from mjstruct.kinematics.tolerances import NEWTON_TOL, STALL_ERROR, STATION_TOL
 from mjstruct.typing import BoolArray, FloatArray
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
 
 __all__ = [
     "Closure",
@@ -131,7 +131,7 @@ class Closure:
 
 
 def close(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     rates: npt.ArrayLike | None = None,
     K: Modes | None = None,
@@ -301,7 +301,7 @@ def close(
 
 
 def _frame_modes(
-    model: KinematicModel, K: Modes | None, inner: tuple[int, ...], frames: int
+    model: ModelView, K: Modes | None, inner: tuple[int, ...], frames: int
 ) -> dict[int, npt.NDArray[np.int8]]:
     """Each inner dyad's mode on every frame (``K``'s, else the reference's)."""
     refs = reference_modes(model, inner)
@@ -313,7 +313,7 @@ def _frame_modes(
 
 
 def _flip_side(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     S: FloatArray,
     arc: FloatArray,
@@ -361,7 +361,7 @@ def _flip_side(
 
 
 def _reseed(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     rate: FloatArray,
     K: Modes | None,

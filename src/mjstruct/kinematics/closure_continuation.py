@@ -56,7 +56,7 @@ from mjstruct.kinematics.tolerances import STALL_ERROR, STATION_STEP
 from mjstruct.typing import FloatArray
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
 
 
 #: continuation stations solved together at most (one evaluation per Newton round:
@@ -97,7 +97,7 @@ SCAN_POINTS = 48
 
 
 def scanned_roots(
-    model: KinematicModel,
+    model: ModelView,
     qv: FloatArray,
     K: Modes | None,
     only: tuple[int, ...] | None,
@@ -183,7 +183,7 @@ def scanned_roots(
 
 
 def continue_stations(
-    model: KinematicModel,
+    model: ModelView,
     path: ClosurePath,
     K: Modes | None,
     tol: float,
@@ -434,7 +434,7 @@ def continue_stations(
 
 
 def station_curvature(
-    model: KinematicModel,
+    model: ModelView,
     path: ClosurePath,
     S: FloatArray,
     TT: FloatArray,

@@ -41,7 +41,7 @@ from mjstruct.kinematics.steps.base import Modes
 from mjstruct.typing import FloatArray
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
 
 #: inner dyads tried at an edge (those with the smallest |sine| at the last station)
 FLIP_CANDIDATES = 3
@@ -57,7 +57,7 @@ FLIP_SINE_BEYOND = 0.1
 MAX_FLIPS = 256
 
 
-def inner_mode_steps(model: KinematicModel, only: tuple[int, ...] | None) -> tuple[int, ...]:
+def inner_mode_steps(model: ModelView, only: tuple[int, ...] | None) -> tuple[int, ...]:
     """Dyad steps with two assembly modes that the closure solves with its unknowns.
 
     Those the closure equations read (``only``, None: every step) and that depend on an
@@ -116,13 +116,13 @@ class ModeFlips:
         return out
 
 
-def reference_modes(model: KinematicModel, steps: tuple[int, ...]) -> dict[int, int]:
+def reference_modes(model: ModelView, steps: tuple[int, ...]) -> dict[int, int]:
     """Each of ``steps``' mode at the reference configuration."""
     return {k: reference_mode(model.plan, model.geometry, k) for k in steps}
 
 
 def signed_sines(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     K: Modes | None,
@@ -139,7 +139,7 @@ StationSolve = Callable[[float, FloatArray, Modes | None], tuple[FloatArray, Flo
 
 
 def try_flip(
-    model: KinematicModel,
+    model: ModelView,
     flips: ModeFlips,
     inner: tuple[int, ...],
     at: Callable[[float], FloatArray],
@@ -206,7 +206,7 @@ BAND_OFFSETS = (1e-6, 1e-4, 1e-2, 1.0, 1e2)
 
 
 def _inside(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     guess: FloatArray,
     K: Modes,

@@ -37,10 +37,10 @@ from mjstruct.kinematics.tolerances import NEWTON_TOL, STALL_ERROR
 from mjstruct.typing import BoolArray, FloatArray
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
 
 
-def closing_steps(model: KinematicModel) -> tuple[int, ...] | None:
+def closing_steps(model: ModelView) -> tuple[int, ...] | None:
     """Steps the closure equations read (in plan order), or None when that is every step.
 
     Newton and the derivatives of the unknowns evaluate only these: a group placed
@@ -55,7 +55,7 @@ def closing_steps(model: KinematicModel) -> tuple[int, ...] | None:
 
 
 def seeded_jets(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     K: Modes | None,
@@ -92,7 +92,7 @@ def seeded_jets(
 
 
 def closure_jets(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     K: Modes | None = None,
@@ -121,7 +121,7 @@ def closure_jets(
 
 
 def closure_jacobian(
-    model: KinematicModel, q: FloatArray, t: FloatArray, K: Modes | None = None
+    model: ModelView, q: FloatArray, t: FloatArray, K: Modes | None = None
 ) -> tuple[FloatArray, FloatArray]:
     """Residuals R (F, e) and the analytic Jacobian dR/dt (F, e, k) at unknowns ``t``."""
     R, J, _ = closure_jets(model, q, t, K, only=closing_steps(model))
@@ -163,7 +163,7 @@ def newton_step(J: FloatArray, R: FloatArray) -> FloatArray:
 
 
 def newton(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t0: FloatArray,
     K: Modes | None = None,
@@ -186,7 +186,7 @@ def newton(
 
 
 def newton_with_tangent(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t0: FloatArray,
     K: Modes | None,
@@ -289,7 +289,7 @@ def newton_with_tangent(
 
 
 def station_newton(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     guess: FloatArray,
     K: Modes | None,
@@ -351,7 +351,7 @@ def subset_modes(K: Modes | None, idx: npt.NDArray[np.intp]) -> Modes | None:
 
 
 def repair(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     err: FloatArray,
@@ -392,7 +392,7 @@ def repair(
 
 
 def tangent(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     K: Modes | None,
@@ -405,7 +405,7 @@ def tangent(
 
 
 def derivatives(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     rate: FloatArray,
@@ -426,7 +426,7 @@ def derivatives(
 
 
 def curvature(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     t: FloatArray,
     t1: FloatArray,

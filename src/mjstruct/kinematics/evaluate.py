@@ -37,7 +37,7 @@ from mjstruct.kinematics.triangles import Jet, Pose
 from mjstruct.mechanism import Mechanism
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.model import KinematicModel
+    from mjstruct.kinematics.model_view import ModelView
     from mjstruct.kinematics.planner import Plan
 
 FloatArray = npt.NDArray[np.float64]
@@ -151,7 +151,7 @@ class Evaluation:
 
 
 def evaluate(
-    model: KinematicModel,
+    model: ModelView,
     q: FloatArray,
     order: int = 2,
     rates: npt.ArrayLike | None = None,

@@ -12,12 +12,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mjstruct.plot.extent import ROW, keyed_layers
 from mjstruct.plot.forces import FORCE_LAYERS
 from mjstruct.plot.layout import (
-    ROW,
     footer_line,
     footer_slot,
-    keyed_layers,
     legend_place,
     round_length,
     scale_bar_place,

@@ -13,7 +13,7 @@ shown, and the picture as PNG.  It answers the two changes a slider makes:
   as a slider's block, with it); its kinematic model keeps the plan (the same
   topology and drivers, so only the geometry is read again); the cycle is solved
   again, the singular positions found again
-  (:func:`~mjstruct.kinematics.singular.singular_analysis`), and the artists are set
+  (:func:`~mjstruct.singular.analysis.singular_analysis`), and the artists are set
   to the new scene in place (a new figure only when the mechanism leaves the axes).
 
 The strip below the drawing spans the driver's range (a revolute driver: 0 to 360°):
@@ -65,7 +65,7 @@ from mjstruct.plot.layout import drawing_figure
 from mjstruct.plot.style import DRIVER_COLOUR
 
 if TYPE_CHECKING:
-    from mjstruct.kinematics.singular import SingularAnalysis, SingularPosition
+    from mjstruct.singular.analysis import SingularAnalysis, SingularPosition
 
 #: height (inches) of the strip of the driver's range below the drawing
 STRIP = 0.62
@@ -471,7 +471,7 @@ class ExplorerView:
 
 def _singular(mechanism: Mechanism) -> tuple[SingularAnalysis | None, str]:
     """The singular analysis of ``mechanism``, or None and why it has none."""
-    from mjstruct.kinematics.singular import singular_analysis
+    from mjstruct.singular.analysis import singular_analysis
 
     try:
         with warnings.catch_warnings():

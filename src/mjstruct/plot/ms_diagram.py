@@ -32,14 +32,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mjstruct.errors import MechanismError
-from mjstruct.kinematics.fourbar import MOTIONS, REFERENCE_MATRICES, fourbar_theory
+from mjstruct.singular.fourbar import MOTIONS, REFERENCE_MATRICES, fourbar_theory
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from mjstruct.kinematics.singular import SingularAnalysis
     from mjstruct.mechanism import Mechanism
+    from mjstruct.singular.analysis import SingularAnalysis
 
 COLOURS = {
     "crank-rocker": "#9ecae1",
@@ -134,8 +134,8 @@ def plot_ms_diagram(
 
 def ms_point(mechanism: Mechanism) -> tuple[float, float, float]:
     """(P1, P2, P3) of a four-bar driven at a frame joint."""
-    from mjstruct.kinematics.singular import fourbar_lengths
-    from mjstruct.kinematics.singular_curve import ClosureEquations
+    from mjstruct.singular.analysis import fourbar_lengths
+    from mjstruct.singular.curve import ClosureEquations
 
     if len(mechanism.drivers) != 1:
         raise MechanismError("drivers: the P2-P3 diagram needs a four-bar with one driver")

@@ -33,9 +33,9 @@ import numpy.typing as npt
 
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.model import KinematicModel, Motion
+from mjstruct.plot.extent import drawing_limits
 from mjstruct.plot.forces import ForceLayer, force_layers
 from mjstruct.plot.layers import kinematic_order, parse_layers
-from mjstruct.plot.layout import drawing_limits
 from mjstruct.plot.style import ARROW, PIN
 from mjstruct.plot.targets import SynthesisTargets, synthesis_targets
 from mjstruct.typing import ComplexArray, IntArray

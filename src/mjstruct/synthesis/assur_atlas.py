@@ -79,7 +79,8 @@ def _proper_subsets_mobile(n: int, joints: list[list[int]]) -> bool:
 
 
 def _minimal_rigid_task(task: tuple[tuple[Vertex, ...], int]) -> list[list[list[int]]]:
-    from mjstruct.synthesis.atlas import chain_code, compositions, expand
+    from mjstruct.synthesis.atlas import compositions, expand
+    from mjstruct.synthesis.canonical_chains import chain_code
     from mjstruct.synthesis.distributions import admissible_distributions, edge_minimum
 
     sequence, n = task

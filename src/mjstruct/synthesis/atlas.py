@@ -46,16 +46,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import pynauty
 
 from mjstruct.errors import MechanismError, expect_int
 from mjstruct.mechanism import Mechanism
-from mjstruct.structure.isomorphism import (
-    QUOTIENT_VERTICES,
-    certificate_of,
-    code_of,
-    nauty_graph,
-)
+from mjstruct.synthesis.canonical_chains import canonical_chain
 from mjstruct.synthesis.contracted import (
     ContractedGraph,
     Vertex,
@@ -144,35 +138,6 @@ class Atlas:
     @property
     def count(self) -> int:
         return len(self.chains)
-
-
-# -- canonical form of a chain ----------------------------------------------------
-
-
-def chain_code(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, bytes, pynauty.Graph]:
-    """Canonical code (as ``canonical_code(m, "chain")``), certificate and nauty graph."""
-    p = len(joints)
-    g = nauty_graph(n, joints)
-    if n + p >= QUOTIENT_VERTICES:  # large: as canonical_code (twins, worker process)
-        sizes, cert = certificate_of(n, joints, [range(n), range(n, n + p)])
-        return code_of("c", n, p, sizes, cert), cert, g
-    cert = pynauty.certificate(g)
-    return code_of("c", n, p, f"{n}.{p}", cert), cert, g
-
-
-def canonical_chain(n: int, joints: Sequence[Sequence[int]]) -> tuple[str, Joints]:
-    """Canonical code and canonical joints (links in nauty's canonical order, sorted)."""
-    code, _, g = chain_code(n, joints)
-    return code, _canonical_joints(n, g)
-
-
-def _canonical_joints(n: int, g: pynauty.Graph) -> tuple[tuple[int, ...], ...]:
-    lab = pynauty.canon_label(g)  # lab[i] = original vertex at canonical position i
-    where = {v: i for i, v in enumerate(lab)}
-    joints = []
-    for node in lab[n:]:
-        joints.append(tuple(sorted(where[x] for x in g.adjacency_dict[node])))
-    return tuple(sorted(joints))
 
 
 def _assortments(n: int, joints: Sequence[Sequence[int]]) -> tuple[tuple[int, ...], ...]:
@@ -355,8 +320,7 @@ def _task_compact(task: tuple[tuple[Vertex, ...], int, int, bool]) -> TaskChains
 
 def _cycle(n: int, F: int) -> Chain:
     joints = [[i, (i + 1) % n] for i in range(n)]
-    code, _, g = chain_code(n, joints)
-    canon = _canonical_joints(n, g)
+    code, canon = canonical_chain(n, joints)
     return Chain(code, n, canon, (n,), (), 0, 1, F, True, False)
 
 

@@ -1,7 +1,8 @@
 """Shipped chain catalogs (JSON Lines under ``catalogs/atlas/``) and their sqlite index.
 
-Owns writing the catalogs, the stable ids, and looking a mechanism's chain up by its
-canonical code.  One file per (F, n): ``f1-n10.jsonl``, one chain per line, sorted by
+Owns the shipped files (which (F, n), where, reading one) and looking a mechanism's
+chain up by its canonical code; :mod:`mjstruct.synthesis.catalog_build` writes them.
+One file per (F, n): ``f1-n10.jsonl``, one chain per line, sorted by
 (V, [MJA], [LA], canonical code); multiple-joint chains included, fractionated chains
 (link–joint graph with a cut vertex) included and flagged.  Ids: ``F1n10-0042`` for
 the non-fractionated chains in that order (so the simple-joint chains come first and
@@ -71,63 +72,6 @@ def atlas_dir() -> Path:
 
 def catalog_file(F: int, n: int, root: Path | None = None) -> Path:
     return (root or atlas_dir()) / f"f{F}-n{n:02d}.jsonl"
-
-
-def catalog_records(F: int, n: int, workers: int = 1) -> list[dict[str, Any]]:
-    """Enumerate (F, n) with multiple and fractionated chains; one record per chain."""
-    from mjstruct.structure.assortments import Assortment
-    from mjstruct.structure.codes import full_code, structural_code
-    from mjstruct.synthesis.atlas import atlas
-    from mjstruct.synthesis.names import familiar_names
-
-    names = familiar_names()
-    chains = atlas(F, n, mj=True, fractionated=True, workers=workers).chains
-    out = []
-    counters = {False: 0, True: 0}
-    for c in chains:
-        counters[c.fractionated] += 1
-        cid = f"F{F}n{n}-{'x' if c.fractionated else ''}{counters[c.fractionated]:04d}"
-        a = Assortment(LA=c.LA, MJA=c.MJA)
-        rec = {
-            "id": cid,
-            "name": names.get(c.canonical),
-            "cell": f"K{c.K}V{c.V}",
-            "code": structural_code(a, c.K),
-            "code_star": full_code(a, c.K),
-            **c.to_dict(),
-        }
-        out.append(rec)
-    return out
-
-
-def write_catalogs(root: Path | None = None, workers: int = 1) -> dict[str, int]:
-    """(Re)generate every shipped catalog file; returns {file name: chain count}."""
-    root = root or atlas_dir()
-    root.mkdir(parents=True, exist_ok=True)
-    counts = {}
-    for F, n in SHIPPED:
-        recs = catalog_records(F, n, workers=workers)
-        path = catalog_file(F, n, root)
-        text = "".join(
-            json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n" for rec in recs
-        )
-        _replace_file(path, text)
-        counts[path.name] = len(recs)
-    return counts
-
-
-def _replace_file(path: Path, text: str) -> None:
-    """Write ``text`` to a new file beside ``path`` and move it into place: an
-    interrupted run leaves the old catalog, never half of a new one."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 def read_catalog(F: int, n: int) -> list[dict[str, Any]]:
@@ -460,12 +404,3 @@ def lookup(m: Mechanism) -> LookupResult:
         args["fractionated"] = True
     call = "atlas(" + ", ".join(f"{k}={v!r}" for k, v in args.items()) + ")"
     return LookupResult(False, code, F, m.n, {}, not_shipped_reason(call, m.n), args)
-
-
-if __name__ == "__main__":  # regenerate: python -m mjstruct.synthesis.catalog
-    import sys
-
-    for fname, count in write_catalogs(
-        workers=int(sys.argv[1]) if len(sys.argv) > 1 else 1
-    ).items():
-        print(fname, count)

@@ -24,7 +24,7 @@ Examples
 >>> chains = expand_rows(cg, rows, 4)
 >>> chains.n, chains.joints(0)
 (6, [[0, 1], [0, 2], [2, 3], [3, 1], [0, 4], [4, 5], [5, 1]])
->>> from mjstruct.synthesis.atlas import chain_code
+>>> from mjstruct.synthesis.canonical_chains import chain_code
 >>> codes = [code for code, _ in labelled_chains(chains)]
 >>> codes == [chain_code(6, chains.joints(r))[0] for r in range(2)]
 True
@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mjstruct.structure.isomorphism import QUOTIENT_VERTICES, code_of
+from mjstruct.synthesis.canonical_chains import canonical_chain
 from mjstruct.synthesis.contracted import ContractedGraph
 from mjstruct.synthesis.nauty_calls import LightGraph, canon_labels
 
@@ -146,8 +147,6 @@ def labelled_lists(
     if not len(chains):
         return codes, joints
     if n + p >= QUOTIENT_VERTICES:  # large chains: as canonical_code does them
-        from mjstruct.synthesis.atlas import canonical_chain
-
         for r in range(len(chains)):
             code, canon = canonical_chain(n, chains.joints(r))
             codes.append(code)

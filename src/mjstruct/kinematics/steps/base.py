@@ -26,7 +26,7 @@ import heapq
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -35,9 +35,6 @@ from mjstruct.kinematics.geometry import Geometry
 from mjstruct.kinematics.tolerances import COINCIDE
 from mjstruct.kinematics.triangles import Jet, Pose
 from mjstruct.mechanism import Mechanism
-
-if TYPE_CHECKING:
-    from mjstruct.kinematics.evaluate import Evaluation
 
 FloatArray = npt.NDArray[np.float64]
 #: assembly mode per dyad step (±1, scalar or per frame)
@@ -91,6 +88,34 @@ class Step:
         return self.step_kind.equations
 
 
+class LowerEvaluation(Protocol):
+    """What a run reads of an evaluation of lower order at its configuration.
+
+    :class:`~mjstruct.kinematics.evaluate.Evaluation` satisfies it; the steps read these
+    parts only, so they do not import the evaluation that runs them.
+    """
+
+    @property
+    def first(self) -> Mapping[str, str]:
+        """Joint -> the first link placed that carries it."""
+
+    @property
+    def carried(self) -> Mapping[str, Jet]:
+        """Joint -> its centre's jet as the steps read it."""
+
+    @property
+    def poses(self) -> Mapping[str, Pose]:
+        """Link -> its pose over the frames."""
+
+    @property
+    def diag(self) -> Mapping[int, tuple[FloatArray, FloatArray]]:
+        """Dyad step -> (discriminant, signed sine)."""
+
+    @property
+    def solved(self) -> Mapping[str, Jet]:
+        """Joint -> jet of a centre a dyad solved directly."""
+
+
 @dataclass
 class Run:
     """One evaluation of a plan over the frames: inputs and the poses found so far.
@@ -128,7 +153,7 @@ class Run:
     #: derivatives up to order :attr:`known` hold here too (0: positions; 1: also the
     #: first derivatives, the same rates and t'): the steps that support it compute
     #: only the orders above (the same numbers: the same operations on the same values)
-    lower: Evaluation | None = None
+    lower: LowerEvaluation | None = None
     known: int = -1
 
     def __post_init__(self) -> None:

@@ -11,8 +11,8 @@ import pytest
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import mechanism_from_dict, read_mechanism
-from mjstruct.kinematics.singular import singular_analysis
-from mjstruct.kinematics.singular_curve import ClosureEquations, correct_many, tangents
+from mjstruct.singular.analysis import singular_analysis
+from mjstruct.singular.curve import ClosureEquations, correct_many, tangents
 
 
 @pytest.mark.parametrize("name", ["four-bar", "slider-crank", "scotch-yoke", "zhivago"])

@@ -12,7 +12,7 @@ import pytest
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.singular import singular_analysis
+from mjstruct.singular.analysis import singular_analysis
 
 
 def _json(capsys, *argv):
@@ -51,7 +51,7 @@ def _time_ratio_by_o1_triangle(P1: float, P2: float, P3: float) -> float:
 
 @pytest.mark.parametrize("P", [(0.5, 1.0, 1.5), (0.5, 1.5, 1.0), (0.3, 1.1, 0.9), (0.4, 1.2, 1.3)])
 def test_time_ratio_against_the_o1_triangle(P):
-    from mjstruct.kinematics.fourbar import fourbar_theory
+    from mjstruct.singular.fourbar import fourbar_theory
 
     fb = fourbar_theory(*P)
     assert fb.motion == "crank-rocker"
@@ -82,7 +82,7 @@ def test_ms2_null_time_ratio_says_why():
 
 
 def test_change_point_fourbar_angles_survive_rounding_of_the_lengths():
-    from mjstruct.kinematics.fourbar import fourbar_singular_angles, fourbar_theory
+    from mjstruct.singular.fourbar import fourbar_singular_angles, fourbar_theory
 
     # MS4's lengths as read back from its file (a few ulps off): the change point's
     # folded extreme must not split into two extremes 1e-8 rad either side of it

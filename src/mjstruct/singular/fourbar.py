@@ -5,7 +5,7 @@ Owns the four-bar results that need no tracing: the singularity matrix
 Grashof test, the motion (which of input and output turn fully), the change-point
 conditions (4.1)-(4.3) of system (4), the input's range, the output's swing and the
 time ratio of a crank-rocker, and the closed-form singular angles used to check the
-general Jacobian analysis of :mod:`mjstruct.kinematics.singular`.
+general Jacobian analysis of :mod:`mjstruct.singular.analysis`.
 
 Angles here are measured from the frame line O1 -> O2: ``phi`` is the direction of
 O1 -> A (input), ``theta`` that of O2 -> B (output).

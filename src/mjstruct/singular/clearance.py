@@ -37,7 +37,6 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from mjstruct.errors import MechanismError, NumericalError
-from mjstruct.kinematics.singular_curve import ClosureEquations
 from mjstruct.kinematics.tolerances import (
     FD_STEP2,
     TURNS,
@@ -45,6 +44,7 @@ from mjstruct.kinematics.tolerances import (
     ZONE_DISC,
     ZONE_FLAT,
 )
+from mjstruct.singular.curve import ClosureEquations
 from mjstruct.typing import FloatArray
 
 

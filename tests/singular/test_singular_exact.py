@@ -9,13 +9,13 @@ import math
 import numpy as np
 import pytest
 
-import mjstruct.kinematics.singular as singular_module
+import mjstruct.singular.analysis as singular_module
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.errors import NumericalError
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.singular import singular_analysis
-from mjstruct.kinematics.singular_curve import ClosureEquations
+from mjstruct.singular.analysis import singular_analysis
+from mjstruct.singular.curve import ClosureEquations
 
 
 def _psi3(lam: float, delta: float, stretched: bool) -> float:

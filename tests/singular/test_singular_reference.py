@@ -11,7 +11,7 @@ import pytest
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import mechanism_from_dict, read_mechanism
-from mjstruct.kinematics.singular import _sign_changes, singular_analysis
+from mjstruct.singular.analysis import _sign_changes, singular_analysis
 
 TWO_PI = 2 * math.pi
 

@@ -11,7 +11,7 @@ import pytest
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.singular import singular_analysis
+from mjstruct.singular.analysis import singular_analysis
 
 TWO_PI = 2 * math.pi
 

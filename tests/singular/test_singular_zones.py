@@ -12,8 +12,8 @@ import pytest
 from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.singular import singular_analysis
-from mjstruct.kinematics.singular_curve import ClosureEquations
+from mjstruct.singular.analysis import singular_analysis
+from mjstruct.singular.curve import ClosureEquations
 
 
 def _psi3(lam: float, delta: float, stretched: bool) -> float:

@@ -2,7 +2,7 @@
 
 Owns the analysis behind ``mjstruct singular``: along every branch of the
 configuration curve through the reference (continued through change points, traced
-by :mod:`mjstruct.kinematics.singular_curve`) it finds
+by :mod:`mjstruct.singular.curve`) it finds
 
 * **input limits**: the Jacobian minor without the input column vanishes (the input
   stops and reverses; four-bar: coupler in line with the output),
@@ -14,7 +14,7 @@ by :mod:`mjstruct.kinematics.singular_curve`) it finds
 each located by root refinement (Brent's method on the tangent's input or output
 component; a Gauss-Newton system for change points), with the joints in line there,
 the clearance zone of each collinear pair, the input's range and, for a four-bar,
-the closed-form theory of :mod:`mjstruct.kinematics.fourbar`.  A branch along which
+the closed-form theory of :mod:`mjstruct.singular.fourbar`.  A branch along which
 a minor vanishes identically (a joint sitting on another over a range: MS2's dwell,
 MS5's locked input) is a fold arc, named in the warnings.
 
@@ -38,30 +38,18 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
 from mjstruct.errors import MechanismError, NumericalError
-from mjstruct.kinematics.clearance import exact_zone, formula3, leading_order_zone
-from mjstruct.kinematics.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.kinematics.jacobian import one_blas_thread
-from mjstruct.kinematics.singular_curve import (
-    MAX_STEP,
-    Bifurcation,
-    Branch,
-    ClosureEquations,
-    correct_many,
-    point_on_step,
-    tangents,
-    trace_component,
-    wrap_delta,
-)
 from mjstruct.kinematics.tolerances import (
     AT_CHANGE_POINT,
     COINCIDE_ALONG,
@@ -79,8 +67,24 @@ from mjstruct.kinematics.tolerances import (
 )
 from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.output_numbers import json_number
+from mjstruct.singular.clearance import exact_zone, formula3, leading_order_zone
+from mjstruct.singular.curve import (
+    MAX_STEP,
+    Bifurcation,
+    Branch,
+    ClosureEquations,
+    correct_many,
+    point_on_step,
+    tangents,
+    trace_component,
+    wrap_delta,
+)
+from mjstruct.singular.fourbar import TIE, FourBar, fourbar_theory
 from mjstruct.structure.mobility import dof_grubler
 from mjstruct.typing import FloatArray
+
+if TYPE_CHECKING:
+    from mjstruct.kinematics.result import KinematicsResult
 
 KINDS = ("input_limit", "output_extreme", "change_point")
 
@@ -143,7 +147,7 @@ class SingularPosition:
         clearance).
     configuration : the link coordinates there (``x, y, phi`` of each moving link,
         lengths over the mechanism's size), as
-        :class:`~mjstruct.kinematics.singular_curve.ClosureEquations` numbers them.
+        :class:`~mjstruct.singular.curve.ClosureEquations` numbers them.
     """
 
     kind: str
@@ -752,7 +756,7 @@ def _other(fixed: str) -> str:
 
 
 def _direction(eq: ClosureEquations, x: FloatArray, fixed: str) -> tuple[FloatArray, FloatArray]:
-    from mjstruct.kinematics.clearance import singular_direction
+    from mjstruct.singular.clearance import singular_direction
 
     return singular_direction(eq, x, fixed)
 
@@ -823,3 +827,33 @@ def classify_singular_frames(
                     best = key
         out.append(None if best is None else KINDS[-best[1]])
     return out
+
+
+#: the kinematics' flagged frames are named for mechanisms up to this many links (the
+#: analysis traces the curve with dense SVDs: 0.1-0.4 s up to 16 links, 6.4 s at 62)
+KINDS_MAX_LINKS = 16
+
+
+def name_flagged_frames(r: KinematicsResult, frames: npt.NDArray[np.intp]) -> list[str | None]:
+    """Kind of the singular position at each flagged frame of a kinematics result.
+
+    What the kinematics' near-singular check calls (installed by the package through
+    :func:`mjstruct.kinematics.checks.set_singular_namer`): from
+    :func:`singular_analysis` (one driver, F = 1; its positions are located to 1e-9
+    in q) within one frame step of each frame; only up to :data:`KINDS_MAX_LINKS`
+    links, None where not identified.
+    """
+    none: list[str | None] = [None] * len(frames)
+    drivers = r.plan.drivers
+    if len(drivers) != 1 or len(r.mechanism.links) > KINDS_MAX_LINKS:
+        return none
+    m = r.mechanism
+    if tuple(m.drivers) != drivers:
+        m = dataclasses.replace(m, drivers=drivers)
+    try:
+        a = singular_analysis(m)
+    except (MechanismError, NumericalError):
+        return none
+    q = r.q[:, 0]
+    step = float(np.abs(np.diff(q)).max()) if q.size > 1 else 2 * np.pi
+    return classify_singular_frames(a, q[frames], tol=step)

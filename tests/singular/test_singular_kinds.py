@@ -9,8 +9,8 @@ import numpy as np
 
 from mjstruct.catalog_files import example_path
 from mjstruct.io import read_mechanism
-from mjstruct.kinematics.singular import singular_analysis
 from mjstruct.kinematics.solver import kinematic_analysis
+from mjstruct.singular.analysis import singular_analysis
 
 
 def test_ms1_parallelogram_flags_its_two_change_points_by_kind():

@@ -15,9 +15,9 @@ from mjstruct.catalog_files import example_path
 from mjstruct.cli.main import main
 from mjstruct.errors import MechanismError
 from mjstruct.io import mechanism_from_dict, read_mechanism
-from mjstruct.kinematics.fourbar import fourbar_singular_angles
 from mjstruct.kinematics.model import KinematicModel
-from mjstruct.kinematics.singular import classify_singular_frames, singular_analysis
+from mjstruct.singular.analysis import classify_singular_frames, singular_analysis
+from mjstruct.singular.fourbar import fourbar_singular_angles
 
 TWO_PI = 2 * math.pi
 
@@ -341,7 +341,7 @@ def _brute_force_half_angle(long, r, pins, stretched, samples, rng):
     [(0.5, 0.01, True), (0.5, 0.01, False), (0.8, 0.02, True), (0.3, 0.005, False)],
 )
 def test_formula3_against_pin_in_hole_brute_force(lam, delta, stretched):
-    from mjstruct.kinematics.clearance import formula3
+    from mjstruct.singular.clearance import formula3
 
     rng = np.random.default_rng(3)
     pins = [delta / 3] * 3
@@ -373,7 +373,7 @@ def _brute_force_aligned(long, r, delta, stretched):
 
 
 def test_seed_example_values_of_formula3():
-    from mjstruct.kinematics.clearance import formula3
+    from mjstruct.singular.clearance import formula3
 
     assert math.degrees(formula3(1, 0.5, 0.01, True)) == pytest.approx(9.41, abs=0.005)
     assert math.degrees(formula3(1, 0.5, 0.01, False)) == pytest.approx(16.30, abs=0.005)
