@@ -1,7 +1,7 @@
-"""Regenerate every image of docs/drawings.md (and the README picture, the two
-pictures of docs/singular.md and the function-synthesis chart of
+"""Regenerate every image of docs/drawings.md (and the README pictures, the two
+pictures of docs/singular.md and the targets charts of the shipped synthesis tasks in
 docs/synthesis-design.md) from the shipped examples: ``python docs/make_images.py``
-(about half a minute).
+(about a minute).
 
 Each image is made through the same functions the ``draw``, ``animate``, ``plot`` and
 ``atlas --draw`` commands call, so the pictures are what a user gets.
@@ -78,18 +78,18 @@ def explorer() -> None:
 
 
 def synthesis() -> None:
-    """The function-synthesis chart of docs/synthesis-design.md: the shipped task
-    ``function-log10`` synthesised (seed 0) and drawn as ``--targets-chart`` draws it."""
+    """The targets charts of the shipped tasks (README, docs/synthesis-design.md): each
+    synthesised (seed 0) and drawn as ``synthesize --targets-chart`` draws it."""
     from mjstruct.design.api import load_task, synthesize
     from mjstruct.plot.design_charts import draw_targets
 
-    root = Path(__file__).resolve().parent.parent
-    result = synthesize(load_task(str(root / "catalogs" / "tasks" / "function-log10.json")))
-    fig = draw_targets(result.mechanism)
-    write_atomically(
-        str(IMG / "synthesis-function-log10.png"), lambda tmp: fig.savefig(tmp, dpi=90)
-    )
-    plt.close(fig)
+    tasks = Path(__file__).resolve().parent.parent / "catalogs" / "tasks"
+    for name in ("path-curve18", "function-log10", "motion-five-poses"):
+        result = synthesize(load_task(str(tasks / f"{name}.json")))
+        fig = draw_targets(result.mechanism)
+        out = IMG / f"synthesis-{name.removeprefix('path-')}.png"
+        write_atomically(str(out), lambda tmp, fig=fig: fig.savefig(tmp, dpi=90))
+        plt.close(fig)
 
 
 def main() -> int:
