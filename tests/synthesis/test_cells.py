@@ -151,3 +151,89 @@ def test_an_enumeration_shows_progress_on_a_terminal(
     monkeypatch.setattr(sys, "stderr", quiet)
     assert main(["cells", "--kmax", "2", "--dof", "3", "--count", "--json"]) == 0
     assert quiet.getvalue() == ""  # JSON output: no bar
+
+
+def _stripped(t: tuple[int, ...]) -> tuple[int, ...]:
+    while t and t[-1] == 0:
+        t = t[:-1]
+    return t
+
+
+def _table(F: int, K: int, fractionated: bool) -> tuple[Counter[object], Counter[object]]:
+    """The cells table's chains and planar chains per (V, [MJA], [LA]), rows with
+    count 0 left out (keys without trailing zeros, as the atlases write them)."""
+    rows = [r for r in code_counts(F, K, fractionated, with_sj=True) if r.K == K]
+    keys = [(r.V, _stripped(r.MJA), _stripped(r.LA)) for r in rows]
+    assert len(set(keys)) == len(keys)  # one row per code
+    chains = Counter({k: r.count for k, r in zip(keys, rows, strict=True) if r.count})
+    planar = Counter({k: r.planar for k, r in zip(keys, rows, strict=True) if r.planar})
+    return chains, planar
+
+
+def _shipped_with_loops() -> list[tuple[int, int]]:
+    from mjstruct.synthesis.catalog import SHIPPED
+
+    # K = 1 (the four-bar, the five-bar) has no cell: cells start at K = 2
+    return [(F, n) for F, n in SHIPPED if (n - 1 - F) // 2 >= 2]
+
+
+@pytest.mark.parametrize("fractionated", [False, True])
+@pytest.mark.parametrize(("F", "n"), _shipped_with_loops())
+def test_every_table_equals_the_catalog_it_counts(F: int, n: int, fractionated: bool) -> None:
+    # issue 35 §3: with --fractionated the table dropped the chains with a cut link of
+    # more than K + 1 joints ([8001]/[1·0], [7101]/[0·0] at F = 2, n = 9; [601] at n = 7)
+    from mjstruct.synthesis.catalog import read_catalog
+
+    K = (n - 1 - F) // 2
+    recs = [r for r in read_catalog(F, n) if fractionated or not r["fractionated"]]
+    want = Counter((r["V"], tuple(r["MJA"]), tuple(r["LA"])) for r in recs)
+    want_planar = Counter((r["V"], tuple(r["MJA"]), tuple(r["LA"])) for r in recs if r["planar"])
+    chains, planar = _table(F, K, fractionated)
+    assert chains == want
+    assert planar == want_planar
+    assert sum(chains.values()) == len(recs)
+
+
+@pytest.mark.parametrize(("F", "n"), [(3, 8), (3, 10), (4, 9)])
+def test_every_enumerated_table_equals_the_atlas(F: int, n: int) -> None:
+    # beyond the catalogs the table counts a fresh atlas: F = 3 has cut joints too, and
+    # at n = 10 a link of K + 2 joints and an MJ of K + 2 links (the largest_parts bounds)
+    K = (n - 1 - F) // 2
+    for fractionated in (False, True):
+        a = atlas(F, n, mj=True, fractionated=fractionated)
+        chains, _ = _table(F, K, fractionated)
+        assert chains == Counter((c.V, c.MJA, c.LA) for c in a.chains)
+        assert sum(chains.values()) == a.count
+
+
+def test_the_largest_parts_are_reached() -> None:
+    from mjstruct.synthesis.cells import largest_parts
+
+    for F, n in [(2, 7), (2, 9), (3, 10)]:
+        K = (n - 1 - F) // 2
+        chains = atlas(F, n, mj=True, fractionated=True).chains
+        link_top, mj_top = largest_parts(K, F)
+        assert max(len(c.LA) - 1 for c in chains) == link_top
+        assert max(len(c.MJA) for c in chains) == mj_top
+        # without a cut vertex, K + 1 holds [MJ structure 2020]
+        plain = [c for c in chains if not c.fractionated]
+        assert max(len(c.LA) - 1 for c in plain) <= K - 1
+        assert max(len(c.MJA) for c in plain) <= K - 1
+
+
+def test_cli_fractionated_table_holds_the_swivel_bucket(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    args = ["cells", "--kmax", "3", "--dof", "2", "--count", "--fractionated", "--sj", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    codes = {r["code_star"]: r["chains"] for c in out["cells"] for r in c["codes"]}
+    assert codes["[8001]/[1·0]"] == 1  # seed 002's example 4, F2n9-x0009
+    sj = {(r["K"], tuple(r["LA"])): r["chains"] for r in out["simple_joint"]}
+    assert sj[(3, (7, 1, 0, 1))] == 2
+    per_k = Counter[int]()
+    for c in out["cells"]:
+        per_k[c["K"]] += sum(r["chains"] for r in c["codes"])
+    for r in out["simple_joint"]:
+        per_k[r["K"]] += r["chains"]
+    assert per_k == {2: 9, 3: 219}  # the catalogs f2-n07 and f2-n09, whole

@@ -26,7 +26,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="count non-isomorphic admissible chains per (cell, [MJA], [LA]) (needs --dof)",
     )
     p.add_argument("--sj", action="store_true", help="with --count: also V = 0 rows")
-    p.add_argument("--fractionated", action="store_true", help="with --count: count them too")
+    p.add_argument(
+        "--fractionated",
+        action="store_true",
+        help="with --dof: also chains with a cut vertex (links and MJs of more than K + 1)",
+    )
     p.add_argument(
         "--workers", type=int, default=1, help="processes (default 1; at most the cores)"
     )
@@ -83,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         d: dict[str, Any] = {"K": c.K, "V": c.V, "MJA": [list(m) for m in c.MJA]}
         if args.dof is not None:
             d["n"] = link_count(args.dof, c.K)
-            d["LA"] = [list(la) for la in link_assortments(c.K, c.V, args.dof)]
+            d["LA"] = [list(la) for la in link_assortments(c.K, c.V, args.dof, args.fractionated)]
         if args.count:
             d["codes"] = [
                 {

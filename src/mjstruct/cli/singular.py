@@ -26,6 +26,7 @@ from mjstruct.errors import MechanismError
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
     from mjstruct.singular.analysis import SingularAnalysis, SingularPosition
+    from mjstruct.singular.classification import SingularClass
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -178,11 +179,11 @@ def render(r: SingularAnalysis) -> str:
     order = sorted(r.singular, key=lambda p: _turn(p.q) if r.revolute else p.q)
     lines.append(f"singular positions ({len(r.singular)}):")
     q_head = "q (deg)" if r.revolute else "q"
-    lines.append(f"  {'kind':<15} {q_head:>10} {'output (deg)':>13}  joints in line")
+    lines.append(f"  {'kind':<15} {q_head:>10} {'output (deg)':>13}  {'class':<9} joints in line")
     for p in order:
         lines.append(
             f"  {p.kind:<15} {_q(p, r.revolute):>10} {_q_value(p.output_angle, True):>13}  "
-            f"{' '.join(p.collinear) or '-'}"
+            f"{_notation(p.classification):<9} {' '.join(p.collinear) or '-'}"
         )
         for z in p.zone or ():
             psi = "-" if z.psi is None else _deg(z.psi)
@@ -192,7 +193,14 @@ def render(r: SingularAnalysis) -> str:
                 f"{psi} deg ({_zone_method(z.method, z.lam, z.delta)}{ex})"
             )
         if p.zone is not None and not p.zone:
-            lines.append("      zone: none (no two moving links in line)")
+            c = p.classification
+            theta = (
+                ""
+                if c is None or c.theta is None
+                else f"; theta {_deg(c.theta)} deg (leading-order estimate, the link that "
+                "turns most)"
+            )
+            lines.append(f"      zone: none (no two moving links in line){theta}")
     kinds = [k for k in KIND_MEANINGS if any(p.kind == k for p in r.singular)]
     if kinds:
         lines.append("  where")
@@ -208,7 +216,12 @@ def render(r: SingularAnalysis) -> str:
             if a.q_to == a.q_from
             else f"q from {_span(a.q_from, a.q_to, r.revolute)}"
         )
-        lines.append(f"fold arc: {what} for {span}, {' '.join(a.joints) or '-'} coinciding")
+        c = a.classification
+        cls = "" if c is None else f": {c.notation}"
+        if c is not None and c.theta is not None:
+            cls += f", zone {_deg(c.theta)} deg"
+        lines.append(f"fold arc: {what} for {span}, {' '.join(a.joints) or '-'} coinciding{cls}")
+    lines += _class_legend(r)
     if r.clearance is not None:
         lines.append(
             f"zones: clearance D = {r.clearance:g} (total radial, split evenly over the pins); "
@@ -227,6 +240,30 @@ def render(r: SingularAnalysis) -> str:
             )
     lines += [f"warning: {w}" for w in r.warnings]
     return "\n".join(lines)
+
+
+def _notation(c: SingularClass | None) -> str:
+    return "-" if c is None else c.notation
+
+
+def _class_legend(r: SingularAnalysis) -> list[str]:
+    """What the classes of the report mean: one line per type present."""
+    from mjstruct.singular.classification import TYPES
+
+    found = [p.classification for p in r.singular] + [a.classification for a in r.fold_arcs]
+    types = sorted({c.type for c in found if c is not None}, key=list(TYPES).index)
+    if not types:
+        return []
+    out = [
+        "classes of [Four-bar clearances]: type/trap//mark, mark П useful (built for it), "
+        "В harmful (a trap unless used)"
+    ]
+    for t in types:
+        row = TYPES[t]
+        out.append(f"    {t}/{row.trap}: {row.trap_name} (W1 = {row.W1}, W2 = {row.W2})")
+    if r.clearance is not None:
+        out.append("    zone angle theta of a position: its widest zone above")
+    return out
 
 
 def _q_value(q: float, revolute: bool) -> str:

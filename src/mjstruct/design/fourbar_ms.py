@@ -65,6 +65,7 @@ from mjstruct.errors import MechanismError, NumericalError, expect_number
 from mjstruct.mechanism import Joint, Mechanism, Point
 from mjstruct.output_numbers import json_number
 from mjstruct.singular.analysis import singular_analysis
+from mjstruct.singular.classification import fourbar_classes
 from mjstruct.singular.fourbar import REFERENCE_MATRICES, TIE, fourbar_theory
 
 TASK = "fourbar-ms"
@@ -792,6 +793,9 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
         },
         "errors_of": error_of,
         "singular": analysis.to_dict(),
+        # the closed form's classes of [Four-bar clearances]; the traced ones are in
+        # "singular" (each position's and fold arc's "classification")
+        "classes": list(fourbar_classes(*ms)),
     }
     if requirement is not None:
         details["requirement"] = {

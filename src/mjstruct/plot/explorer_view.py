@@ -66,6 +66,7 @@ from mjstruct.plot.style import DRIVER_COLOUR
 
 if TYPE_CHECKING:
     from mjstruct.singular.analysis import SingularAnalysis, SingularPosition
+    from mjstruct.singular.classification import SingularClass
 
 #: height (inches) of the strip of the driver's range below the drawing
 STRIP = 0.62
@@ -420,12 +421,15 @@ class ExplorerView:
             groups.setdefault((p.kind, self.text(p.q)), []).append(p)
         words = []
         for (kind, at), group in groups.items():
+            classes = "".join(dict.fromkeys(_notation(p.classification) for p in group))
             if len(group) == 1:
-                words.append(f"{KIND_WORDS[kind]} at {at}")
+                words.append(f"{KIND_WORDS[kind]} at {at}{classes}")
                 continue
             outputs = list(dict.fromkeys(self.angle_text(p.output_angle) for p in group))
             where = f" (output at {', '.join(outputs)})" if len(outputs) == len(group) else ""
-            words.append(f"{KIND_WORDS[kind]} at {at} on {len(group)} assembly branches{where}")
+            words.append(
+                f"{KIND_WORDS[kind]} at {at} on {len(group)} assembly branches{where}{classes}"
+            )
         return ", ".join(words)
 
     def angle_text(self, angle: float) -> str:
@@ -462,11 +466,24 @@ class ExplorerView:
         else:
             lines.append(self.singular_note)
         if r is not None:
+            for a in r.fold_arcs:
+                what = "input locked" if a.kind == "input_limit" else "output dwells"
+                span = (
+                    f"at {self.text(a.q_from)}"
+                    if a.q_to == a.q_from
+                    else f"from {self.text(a.q_from)} to {self.text(a.q_to)}"
+                )
+                lines.append(f"fold arc: {what} {span}{_notation(a.classification)}")
             lines += [f"singular analysis: {w}" for w in r.warnings]
         if not self.assembles:
             lines.append(f"at {d} = {self.text(float(self.q[0]))} the mechanism does not assemble")
         lines += [f"warning: {w}" for w in self.notes]
         return lines
+
+
+def _notation(c: SingularClass | None) -> str:
+    """`` (II/B//П)``: the class of [Four-bar clearances] in brackets, or nothing."""
+    return "" if c is None else f" ({c.notation})"
 
 
 def _singular(mechanism: Mechanism) -> tuple[SingularAnalysis | None, str]:

@@ -3,7 +3,8 @@
 Owns two drawings (matplotlib imported inside them): :func:`plot_ms_diagram`, the
 plane of the relative coupler and output lengths at a fixed input length ``P1``, cut
 by the three lines of system (4) into regions labelled by the motion, with the
-reference points M1-M5 and a given mechanism's point; and
+reference points M1-M5 and a given mechanism's point, each with the classes of its
+singular positions (types I-V and traps A-E, :mod:`mjstruct.singular.classification`); and
 :func:`plot_singular_zones`, a four-bar drawn at each of its singular positions with
 the wedge of its clearance zone at the pivot of the zone's link.
 
@@ -21,6 +22,8 @@ Examples
 >>> fig = plot_ms_diagram(0.5, point=(1.0, 1.5))
 >>> [t.get_text() for t in fig.axes[0].texts if t.get_text().startswith("M")]
 ['M1', 'M2', 'M3', 'M4']
+>>> fig.axes[0].get_legend().get_texts()[3].get_text()
+'mechanism: II/B//П, II/B//В'
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mjstruct.errors import MechanismError
+from mjstruct.singular.classification import fourbar_classes
 from mjstruct.singular.fourbar import MOTIONS, REFERENCE_MATRICES, fourbar_theory
 
 if TYPE_CHECKING:
@@ -113,8 +117,15 @@ def plot_ms_diagram(
         if abs(p1 - P1) < 1e-12:
             ax.plot([p2], [p3], "ko", markersize=6)
             ax.annotate(f"M{k}", (p2, p3), textcoords="offset points", xytext=(6, 6))
+            # its singular positions' classes of [Four-bar clearances], in closed form
+            ax.annotate(
+                ", ".join(fourbar_classes(p1, p2, p3)), (p2, p3), textcoords="offset points",
+                xytext=(6, -8), fontsize=6, gid=f"classes:M{k}",
+            )  # fmt: skip
         del name
     if point is not None:
+        with contextlib.suppress(MechanismError):  # no loop: no classes
+            label = f"{label}: {', '.join(fourbar_classes(P1, *point))}"
         ax.plot([point[0]], [point[1]], "r*", markersize=14, label=label)
     patches = [Patch(facecolor=COLOURS[n], edgecolor="0.5", label=n) for n in names]
     handles, _ = ax.get_legend_handles_labels()

@@ -67,6 +67,15 @@ from mjstruct.kinematics.tolerances import (
 )
 from mjstruct.mechanism import Mechanism, expect_mechanism
 from mjstruct.output_numbers import json_number
+from mjstruct.singular.classification import (
+    SingularClass,
+    classify_fold_arc,
+    classify_position,
+    fold_arc_theta,
+    singular_group_class,
+    theta_of_zones,
+    theta_without_pair,
+)
 from mjstruct.singular.clearance import exact_zone, formula3, leading_order_zone
 from mjstruct.singular.curve import (
     MAX_STEP,
@@ -148,6 +157,8 @@ class SingularPosition:
     configuration : the link coordinates there (``x, y, phi`` of each moving link,
         lengths over the mechanism's size), as
         :class:`~mjstruct.singular.curve.ClosureEquations` numbers them.
+    classification : its type and trap of [Four-bar clearances]
+        (:mod:`mjstruct.singular.classification`).
     """
 
     kind: str
@@ -157,6 +168,7 @@ class SingularPosition:
     pairs: tuple[tuple[str, str], ...]
     zone: tuple[Zone, ...] | None = None
     configuration: tuple[float, ...] = field(default=(), repr=False, compare=False)
+    classification: SingularClass | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
@@ -167,6 +179,9 @@ class SingularPosition:
         }
         if self.zone is not None:
             d["zone"] = [z.to_dict() for z in self.zone]
+        d["classification"] = (
+            None if self.classification is None else self.classification.to_dict()
+        )
         return d
 
 
@@ -183,6 +198,7 @@ class FoldArc:
         ``q_from`` in [q_ref, q_ref + 2 pi) for a revolute driver, ``q_to >= q_from``.
     joints : ids of the joints that sit on another along the arc (file order).
     output_angle : the dwell angle of the output (``None`` for a locked input).
+    classification : its type and trap of [Four-bar clearances] (III/C or IV/D).
     """
 
     kind: str
@@ -190,15 +206,20 @@ class FoldArc:
     q_to: float
     joints: tuple[str, ...]
     output_angle: float | None
+    classification: SingularClass | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        d: dict[str, Any] = {
             "kind": self.kind,
             "q_from": json_number(self.q_from),
             "q_to": json_number(self.q_to),
             "joints": list(self.joints),
             "output_angle": json_number(self.output_angle),
         }
+        d["classification"] = (
+            None if self.classification is None else self.classification.to_dict()
+        )
+        return d
 
 
 @dataclass(frozen=True)
@@ -424,6 +445,7 @@ def _analyse(
 
     found: list[tuple[str, FloatArray]] = [("change_point", b.x) for b in bifs]
     fold_arcs: list[FoldArc] = []
+    unclassified: set[int] = set()
     q_spans: list[tuple[float, float, bool]] = []
     for br in branches:
         qs, gq = eq.inputs(br.x)
@@ -435,7 +457,10 @@ def _analyse(
         if fold_in or fold_out:
             same = _coinciding(eq, br)
             warnings.append(_fold_warning(eq, br, fold_in, qwrap(float(qs[0])), same))
-            fold_arcs += _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
+            arcs = _fold_arcs(eq, br, fold_in, qs, bifs, same, q_ref, revolute)
+            if fold_in and fold_out:  # neither moves: no type of the classification
+                unclassified.update(id(a) for a in arcs)
+            fold_arcs += arcs
         for kind, comp, fold, grad in (
             ("input_limit", dq, fold_in, eq.inputs),
             ("output_extreme", do, fold_out, eq.outputs),
@@ -464,23 +489,34 @@ def _analyse(
         if not any(_near(eq, x, y, SAME_POINT) for _, y in unique):
             unique.append((kind, x))
     positions = []
+    groups = _group_classes(m) if any(k == "input_limit" for k, _ in unique) else None
     for kind, x in unique:
         coll, triples = _collinear(eq, x)
         pairs = tuple(dict.fromkeys((a, b) for a, b, *_ in triples if m.frame not in (a, b)))
         zone = None
+        theta = None
         if clearance is not None:
             zone, notes = _zones(eq, x, kind, triples, clearance, fb is not None, exact)
             where = f"{kind} q = {qwrap(eq.input(x)[0]):.9g}"
             warnings += [f"exact zone at the {where}: {n}" for n in notes]
+            theta = theta_of_zones([z.psi for z in zone])
+            if not pairs:  # no pair in line (an Assur point): the link turning most
+                held = "output" if kind == "output_extreme" else "input"
+                theta = theta_without_pair(eq, x, held, clearance)
+        q = float(qwrap(eq.input(x)[0]))
+        klass = None
+        if kind == "input_limit" and groups is not None:
+            klass = singular_group_class(eq, x, groups)
         positions.append(
             SingularPosition(
                 kind,
-                float(qwrap(eq.input(x)[0])),
+                q,
                 _half_turn(eq.output_angle(x)),
                 coll,
                 pairs,
                 zone,
                 tuple(float(v) for v in x),
+                classify_position(kind, q, pairs, theta, klass),
             )
         )
     # positions equal to rounding sort alike whichever branch met them first
@@ -494,6 +530,20 @@ def _analyse(
         )
     )
     rng = _input_range(q_spans, q_ref, revolute)
+    fold_arcs = [
+        a
+        if id(a) in unclassified
+        else dataclasses.replace(
+            a,
+            classification=classify_fold_arc(
+                a.kind,
+                a.q_from,
+                a.q_to,
+                fold_arc_theta(a.joints, m.link_joints, eq.geometry.centres, clearance),
+            ),
+        )
+        for a in fold_arcs
+    ]
     return SingularAnalysis(
         driver,
         eq.output_link,
@@ -507,6 +557,16 @@ def _analyse(
         fb_out,
         tuple(sorted(fold_arcs, key=lambda a: (round(a.q_from, 9), round(a.q_to, 9), a.kind))),
     )
+
+
+def _group_classes(m: Mechanism) -> list[tuple[tuple[str, ...], int]] | None:
+    """Each Assur group's links and class in solving order (None: no decomposition)."""
+    from mjstruct.structure.assur import assur_groups
+
+    try:
+        return [(g.links, g.klass) for g in assur_groups(m).groups]
+    except MechanismError:
+        return None
 
 
 def _sign_changes(comp: FloatArray) -> list[tuple[int, bool]]:

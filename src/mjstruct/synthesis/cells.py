@@ -73,9 +73,32 @@ def _as_counts(parts: list[int], length: int) -> tuple[int, ...]:
     return tuple(c.get(k, 0) for k in range(1, length + 1))
 
 
-def mj_assortments(K: int, V: int) -> tuple[tuple[int, ...], ...]:
-    """[MJA] = (ν2, ..., ν_K) of a cell: partitions of V into parts j - 1 <= K - 1."""
-    return tuple(sorted((_as_counts(p, K - 1) for p in _partitions(V, K - 1)), reverse=True))
+def largest_parts(K: int, F: int | None = None) -> tuple[int, int]:
+    """The largest excess (joints - 2) of one link, and (links - 2) of one MJ, in a chain
+    of K loops; with F, of a fractionated chain of F DOF too.
+
+    Removing a vertex of degree d from the link–joint graph leaves c components and
+    K - d + c >= 0 loops, so d <= K + c.  Without a cut vertex c = 1: d <= K + 1 [1]_.
+    A cut link splits the chain into c parts of F_p >= 1 each (admissible sub-chains)
+    with F = Σ F_p, so c <= F; a cut joint gives F = Σ F_p + c - 1, so c <= (F + 1)/2.
+
+    >>> largest_parts(3), largest_parts(3, F=2), largest_parts(3, F=3)
+    ((2, 2), (3, 2), (4, 3))
+    """
+    if F is None:
+        return K - 1, K - 1
+    return K - 2 + max(F, 1), K - 2 + max((F + 1) // 2, 1)
+
+
+def mj_assortments(K: int, V: int, largest: int | None = None) -> tuple[tuple[int, ...], ...]:
+    """[MJA] = (ν2, ..., ν_K) of a cell: partitions of V into parts j - 1 <= K - 1.
+
+    ``largest``: the largest part instead of K - 1 (MJs of a fractionated chain,
+    :func:`largest_parts`); a tuple runs past ν_K only as far as its largest MJ.
+    """
+    top = K - 1 if largest is None else largest
+    mjas = (_pad(_as_counts(p, top), K - 1) for p in _partitions(V, top))
+    return tuple(sorted(mjas, reverse=True))
 
 
 def cells(kmax: int) -> list[Cell]:
@@ -86,21 +109,32 @@ def cells(kmax: int) -> list[Cell]:
     ]
 
 
-def link_assortments(K: int, V: int, F: int) -> tuple[tuple[int, ...], ...]:
+def link_assortments(
+    K: int, V: int, F: int, fractionated: bool = False
+) -> tuple[tuple[int, ...], ...]:
     """[LA] = (n2, n3, ..., n_(K+1)) with n = F + 1 + 2K links and Σ (i-2) n_i = 2(K-1) - V.
 
-    Links with more than K + 1 joints are left out (such a link would be a cut vertex).
+    Links with more than K + 1 joints are left out: such a link would be a cut vertex.
+    With ``fractionated`` the cut links stay, up to K + F joints (:func:`largest_parts`);
+    a tuple runs past n_(K+1) only as far as its largest link.
+
+    >>> link_assortments(3, 1, 2)
+    ((7, 1, 1), (6, 3, 0))
+    >>> link_assortments(3, 1, 2, fractionated=True)  # [8001]: a swivel bucket drive
+    ((8, 0, 0, 1), (7, 1, 1), (6, 3, 0))
     """
     n = link_count(F, K)
     excess = 2 * (K - 1) - V
+    top = largest_parts(K, F if fractionated else None)[0]
     out = []
-    for p in _partitions(excess, K - 1):
+    for p in _partitions(excess, top):
         if len(p) <= n:
-            out.append((n - len(p), *_as_counts(p, K - 1)))
+            out.append(_pad((n - len(p), *_as_counts(p, top)), K))
     return tuple(sorted(out, reverse=True))
 
 
 def _pad(t: tuple[int, ...], length: int) -> tuple[int, ...]:
+    """``t`` without trailing zeros, then padded with zeros to at least ``length``."""
     t = tuple(t)
     while t and t[-1] == 0:
         t = t[:-1]
@@ -234,11 +268,22 @@ def code_counts(
             key = (V, _pad(MJA, K - 1), _pad(LA, K))
             tally[key] += 1
             planar[key] += bool(is_planar)
+        mj_top = largest_parts(K, F if fractionated else None)[1]
+        listed = set()
         for V in range(0 if with_sj else 1, 2 * K - 1):
-            for mja in mj_assortments(K, V) if V else ((0,) * (K - 1),):
-                for la in link_assortments(K, V, F):
+            for mja in mj_assortments(K, V, mj_top) if V else ((0,) * (K - 1),):
+                for la in link_assortments(K, V, F, fractionated):
                     key = (V, mja, la)
+                    listed.add(key)
                     out.append(CodeCount(K, V, mja, la, tally[key], planar[key]))
+        # every chain counted lies in a row: a row the equations miss would lose it
+        lost = [key for key in tally if key not in listed and (with_sj or key[0])]
+        if lost:
+            V, mja, la = lost[0]
+            raise RuntimeError(
+                f"the cells table for F = {F}, K = {K} has no row for V = {V}, "
+                f"[MJA] {list(mja)}, [LA] {list(la)}, which {tally[lost[0]]} chains have"
+            )
     return out
 
 
