@@ -94,6 +94,8 @@ PUBLIC = [
     "DesignResult",
     "synthesize",
     "explore",
+    "planetary_synthesis",
+    "planetary_ratio_range",
 ]
 
 CLI = [
@@ -108,6 +110,7 @@ CLI = [
     "iso",
     "kinematics",
     "lookup",
+    "planetary",
     "plot",
     "singular",
     "synthesize",
@@ -125,6 +128,7 @@ SUBPACKAGES = (
     "design",
     "dynamics",
     "exchange",
+    "gears",
     "kinematics",
     "plot",
     "singular",

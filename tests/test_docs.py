@@ -181,6 +181,8 @@ IMPLEMENTED = [
     "McKay & Piperno 2014",
     "Freudenstein 1955",
     "Burmester 1888",
+    "Kavetsky & Geresh",
+    "Tsai & Freudenstein",
 ]
 
 

@@ -119,6 +119,8 @@ _EXPORTS: dict[str, str] = {
     "seed_invariants": "mjstruct.structure.invariants",
     "synthesize": "mjstruct.design.api",
     "DesignResult": "mjstruct.design.result",
+    "planetary_synthesis": "mjstruct.gears.planetary",
+    "planetary_ratio_range": "mjstruct.gears.planetary",
 }
 
 # a literal list so that type checkers read it; tests/test_api.py keeps it equal to _EXPORTS
@@ -188,6 +190,8 @@ __all__ = [
     "parse_mechanism",
     "pebble_rank",
     "plan_kinematics",
+    "planetary_ratio_range",
+    "planetary_synthesis",
     "plot_decomposition",
     "plot_ms_diagram",
     "plot_singular_zones",
@@ -234,6 +238,10 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
     from mjstruct.exchange.pyslvs import (
         mechanism_from_pyslvs,
         mechanism_to_pyslvs,
+    )
+    from mjstruct.gears.planetary import (
+        planetary_ratio_range,
+        planetary_synthesis,
     )
     from mjstruct.io import (
         from_link_graph,

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError, expect_instance
+from mjstruct.gear_pairs import read_gear_pairs
 from mjstruct.mechanism import Joint, Mechanism, Point, expect_mechanism
 
 if TYPE_CHECKING:
@@ -248,7 +249,7 @@ def mechanism_from_dict(data: Any) -> Mechanism:
         )
     name = data.get("name", "")
     extra = {k: v for k, v in data.items() if k not in _KNOWN_KEYS}
-    return Mechanism(
+    m = Mechanism(
         links=links,
         joints=tuple(joints),
         frame=frame_id,
@@ -257,6 +258,9 @@ def mechanism_from_dict(data: Any) -> Mechanism:
         points=tuple(points),
         extra=extra,
     )
+    if "gears" in extra:  # higher pairs, kept in extra as read; checked here once
+        read_gear_pairs(extra["gears"], m)
+    return m
 
 
 def mechanism_to_dict(m: Mechanism) -> dict[str, Any]:

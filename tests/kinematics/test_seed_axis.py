@@ -69,6 +69,9 @@ CASES = [
     Case("slider-crank", sliders=("A",), kinds=("PRP",)),
     Case("triad-class-iii", sliders=("O1", "O3"), kinds=("driver-P", "assume-slide")),
     Case("triad-class-iii", sliders=("C", "D"), kinds=("RPR", "close-slide")),
+    Case("planetary-2aa", kinds=("gear",)),  # every link turned by Willis' equations
+    Case("geared-five-bar", kinds=("gear", "RRR")),
+    Case("sun-and-planet", kinds=("gear-link", "RRR")),
     Case(
         "zhivago",
         drivers=("G",),

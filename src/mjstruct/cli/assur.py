@@ -61,6 +61,10 @@ def run(args: argparse.Namespace) -> int:
     if args.any_joint and not args.all_choices:
         raise MechanismError("--any-joint goes with --all-choices")
     m = read_mechanism(args.file)
+    if "gears" in m.extra:  # Assur groups of the equivalent lower-pair chain
+        from mjstruct.gears.structure import equivalent_chain
+
+        m = equivalent_chain(m)
     drivers = driver_list(args.drivers, m)
     if not args.all_choices and not (drivers or m.drivers):
         raise MechanismError(

@@ -118,7 +118,10 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.structure.isomorphism import LEVELS, canonical_code
 
     a, b = read_mechanism(args.file_a), read_mechanism(args.file_b)
-    codes = {lv: (canonical_code(a, lv), canonical_code(b, lv)) for lv in LEVELS}  # type: ignore[arg-type]
+    code = canonical_code
+    if "gears" in a.extra or "gears" in b.extra:  # gear pairs coloured by type
+        from mjstruct.gears.structure import geared_canonical_code as code
+    codes = {lv: (code(a, lv), code(b, lv)) for lv in LEVELS}  # type: ignore[arg-type]
     levels = {lv: ca_ == cb_ for lv, (ca_, cb_) in codes.items()}
     ca, cb = codes[args.level]
     ia, ib = seed_invariants(a), seed_invariants(b)

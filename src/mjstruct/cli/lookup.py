@@ -22,6 +22,10 @@ def run(args: argparse.Namespace) -> int:
     from mjstruct.synthesis.names import inversion_name, inversion_text
 
     m = read_mechanism(args.file)
+    if "gears" in m.extra:  # the chain of the equivalent lower-pair chain
+        from mjstruct.gears.structure import equivalent_chain
+
+        m = equivalent_chain(m)
     r = lookup(m)
     inversion = inversion_name(m)
     reason = _reason(r)

@@ -33,6 +33,7 @@ COMMANDS: dict[str, str] = {
     "dynamics": "equation of motion, steady motion, joint reactions and actuator loads",
     "convert": "between mechanism JSON/TOML, pyslvs expressions, GraphML and node-link JSON",
     "synthesize": "dimensional synthesis: the dimensions that make a mechanism do a task",
+    "planetary": "tooth numbers of the 2AA planetary train for a ratio",
 }
 
 

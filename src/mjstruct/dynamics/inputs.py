@@ -59,6 +59,8 @@ def read_inputs(
     """
     expect_mechanism(mechanism, "mechanism")
     expect_ids(drivers, "drivers")
+    if mechanism.extra.get("gears"):
+        raise MechanismError("gears: the dynamics of gear pairs is not modelled yet")
     if model is None:
         geometry = geometry_of(mechanism, validate_drivers(mechanism, drivers, balance=False))
     else:

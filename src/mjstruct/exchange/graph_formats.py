@@ -10,7 +10,10 @@ Nodes are ``link:<id>`` and ``joint:<id>``; every node has ``part`` (``link`` or
 ``multiplicity`` (links − 1) and, when the file has geometry, ``x``, ``y`` and for a
 prismatic joint ``axis_x``, ``axis_y``.  An edge joins a joint to each of its links,
 with ``position``, the link's place in the joint's list (the first link is the
-reference of the joint's coordinate).  Graph attributes: ``name``, and as JSON text
+reference of the joint's coordinate).  A gear pair (the file's ``gears``) is an edge
+between its two links with ``pair`` = ``gear``, ``gear_id`` and ``gear_type``
+(``external``, ``internal``, ``rack``); a graph with such edges and no ``extra``
+gets its ``gears`` from them.  Graph attributes: ``name``, and as JSON text
 ``points`` and ``extra`` (masses, loads) when present.
 
 Examples
@@ -34,6 +37,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.errors import MechanismError
+from mjstruct.gear_pairs import read_gear_pairs
 from mjstruct.mechanism import JOINT, LINK, Joint, Mechanism, Point
 
 if TYPE_CHECKING:
@@ -75,7 +79,19 @@ def mechanism_to_graph(m: Mechanism) -> nx.Graph:
         g.add_node(f"{JOINT}:{j.id}", **attrs)
         for pos, link in enumerate(j.links):
             g.add_edge(f"{JOINT}:{j.id}", f"{LINK}:{link}", position=pos)
+    for gear in _gear_entries(m.extra.get("gears")):  # higher pairs: link-link edges
+        a, b = (f"{LINK}:{x}" for x in gear["links"])
+        g.add_edge(
+            a, b, pair="gear", gear_id=str(gear["id"]), gear_type=gear.get("type", "external")
+        )
     return g
+
+
+def _gear_entries(raw: Any) -> list[Mapping[str, Any]]:
+    """The file's gear pairs (checked when it was read) as plain objects."""
+    if not isinstance(raw, list):
+        return []
+    return [e for e in raw if isinstance(e, Mapping) and len(e.get("links", ())) == 2]
 
 
 def _part(node: Any, data: Mapping[str, Any]) -> tuple[str, str]:
@@ -165,7 +181,15 @@ def mechanism_from_graph(g: nx.Graph) -> Mechanism:
             raise MechanismError("graph: the 'extra' attribute is not JSON text") from None
         if not isinstance(extra, dict):
             raise MechanismError("graph: the 'extra' attribute must hold an object")
-    return Mechanism(
+    gear_edges = [
+        {"id": str(d.get("gear_id", f"g{k}")), "links": [kinds[u][1], kinds[v][1]],
+         "type": str(d.get("gear_type", "external"))}
+        for k, (u, v, d) in enumerate(g.edges(data=True))
+        if d.get("pair") == "gear" and kinds[u][0] == kinds[v][0] == LINK
+    ]  # fmt: skip
+    if gear_edges and "gears" not in extra:  # a graph tool's file: the pairs from edges
+        extra["gears"] = gear_edges
+    m = Mechanism(
         links=tuple(ident for _, ident, _ in links),
         joints=tuple(out),
         frame=frames[0] if frames else None,
@@ -174,6 +198,9 @@ def mechanism_from_graph(g: nx.Graph) -> Mechanism:
         points=tuple(points),
         extra=extra,
     )
+    if "gears" in extra:
+        read_gear_pairs(extra["gears"], m)
+    return m
 
 
 def mechanism_to_graphml(m: Mechanism) -> str:

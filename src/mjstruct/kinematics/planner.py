@@ -52,6 +52,7 @@ from mjstruct.errors import MechanismError
 from mjstruct.kinematics.geometry import Geometry, geometry_of
 from mjstruct.kinematics.steps import PLAN_RULES, STEP_KINDS, PlanState, Step, Topology
 from mjstruct.kinematics.steps.drivers import assume_angle, assume_slide
+from mjstruct.kinematics.steps.gears import geared_dof
 from mjstruct.kinematics.tolerances import PLAN_RANK_TOL
 from mjstruct.mechanism import Mechanism
 from mjstruct.structure.assur import Decomposition
@@ -294,7 +295,10 @@ def plan_checked(
     assert m.frame is not None  # the geometry's reading checked it
     # one pebble game for the drivers' check and the decomposition
     balance = driver_balance(m, drv)
-    generic = _check_drivers(m, geom, balance)
+    geared = bool(m.extra.get("gears"))  # checked by rank with the gear pairs instead
+    generic = not geared and _check_drivers(m, geom, balance)
+    if geared:
+        geared_dof(m, drv)
     topo = Topology(m, drv)
     groups, source, dec_ref = _groups_from(m, decomposition, balance if generic else None)
     refs = [m.frame] if dec_ref is None else [dec_ref, m.frame]
@@ -331,7 +335,7 @@ def plan_checked(
     eqs = sum(s.equations for s in best.steps)
     notes: tuple[str, ...] = ()
     if eqs != best.unknowns:
-        dof = _jacobian_dof(m, geom)
+        dof = geared_dof(m, drv) if geared else _jacobian_dof(m, geom)
         # more equations than unknowns is fine when the constraints themselves are
         # redundant (rank J < Nu) and the drivers match the refined DOF
         redundant = eqs > best.unknowns and best.unknowns == 0 and len(drv) == dof

@@ -8,7 +8,8 @@ point of the link lies inside), a straight link as a bar between its extreme
 joints or points, and a pin hole at each of its joints; the frame on layer ``frame``: a hole at
 each frame pivot with a cross through it, and the guide lines of sliders on the
 frame; slider blocks as rectangles on their link's layer, guides of moving links as
-lines on the carrier's layer; joint ids as text on layer ``labels``.  Lengths are the
+lines on the carrier's layer; joint ids as text on layer ``labels``; the gears' pitch
+circles (the file's ``gears``) on layer ``pitch-circles``.  Lengths are the
 file's length unit; sizes follow the mechanism's size as on a drawing (the pin hole's
 radius is the pin's, :data:`~mjstruct.plot.style.PIN` of the size; a bar's
 half-width is twice that).
@@ -37,6 +38,7 @@ import numpy as np
 
 from mjstruct.errors import MechanismError
 from mjstruct.plot.files import check_output, write_atomically
+from mjstruct.plot.gear_artists import drawn_gears
 from mjstruct.plot.scene import Scene, anchor_positions, duplicate_joint, guide_sides
 from mjstruct.plot.scheme import bar_ends, is_bar, link_outline, plate_outline
 from mjstruct.typing import ComplexArray
@@ -124,6 +126,11 @@ def write_dxf(scene: Scene, path: str, name: str = "path") -> None:
     for pid, (link, _) in model.geometry.points.items():
         z = at[pid]
         msp.add_point((z.real, z.imag), dxfattribs={"layer": layer_name(link)})
+    gears = drawn_gears(model)
+    if gears:  # pitch circles, one layer for all (the gears' links keep their outlines)
+        doc.layers.add("pitch-circles", color=3)
+        for g in gears:
+            _circle(msp, at[g.joint], g.radius, "pitch-circles")
     write_atomically(path, lambda tmp: doc.saveas(tmp), name=name)
 
 

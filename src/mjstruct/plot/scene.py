@@ -230,6 +230,10 @@ def _scene(
             cloud.append((at + f * arrow_scale["force"])[ok])
     for z in paths.values():
         cloud.append(z[np.isfinite(z)])
+    if m.extra.get("gears"):
+        from mjstruct.plot.gear_artists import gear_cloud
+
+        cloud += [z[ok] for z in gear_cloud(model, anchor_arrays(scene))]
     targets = synthesis_targets(m) if "targets" in layers or "paths" in layers else None
     if "targets" in layers and targets is None:
         raise MechanismError(

@@ -6,7 +6,8 @@ links as plates, the convex hull of their joint centres and points (a straight o
 bar; a binary link that carries a point off its line is a plate too), revolute
 joints as pins (a multiple joint with one dot per link on a ring), prismatic joints
 as blocks, the driver's arc or arrow, joint and link labels, points of interest, the
-traced paths and the links' colours (by Assur group on that layer).
+traced paths and the links' colours (by Assur group on that layer); gears through
+:mod:`mjstruct.plot.gear_artists`.
 
 :class:`SchemeArtists` builds these artists once on an axes and moves them to a
 frame (:meth:`SchemeArtists.show`), so an animation updates their data instead of
@@ -21,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mjstruct.plot.gear_artists import gear_artists
 from mjstruct.plot.placement import clearance, free_direction
 from mjstruct.plot.scene import Scene, anchor_arrays, duplicate_joint, guide_sides, vector_sites
 from mjstruct.plot.style import DRIVER_COLOUR, FRAME_COLOUR, GROUP_COLOURS, LINK_COLOUR
@@ -203,6 +205,9 @@ class SchemeArtists:
                 self._pin(j.id)
             else:
                 self._block(j.id)
+        if m.extra.get("gears"):
+            for artists, update in gear_artists(ax, model, scene.motion.evaluation.poses):
+                self._add(artists, update)
         for d in model.drivers:
             self._driver(d)
         self._labels()

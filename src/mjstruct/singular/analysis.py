@@ -379,6 +379,8 @@ def singular_analysis(
     """
     expect_mechanism(mechanism, "mechanism")
     m = mechanism
+    if m.extra.get("gears"):
+        raise MechanismError("gears: singular positions of geared mechanisms are not analysed yet")
     F = dof(m)
     if F != 1:
         raise MechanismError(f"mechanism: singular positions need F = 1, this one has F = {F}")

@@ -9,7 +9,9 @@ equations) and :data:`PLAN_RULES` (how the planner finds each family's steps).
 * :mod:`~mjstruct.kinematics.steps.drivers`: reference, driver-R, driver-P, assume;
 * :mod:`~mjstruct.kinematics.steps.closures`: place, close-distance, close-point;
 * :mod:`~mjstruct.kinematics.steps.dyads`: RRR, RRP, RPR (two assembly modes);
-* :mod:`~mjstruct.kinematics.steps.line_dyads`: PRP, RPP (line–line intersections).
+* :mod:`~mjstruct.kinematics.steps.line_dyads`: PRP, RPP (line–line intersections);
+* :mod:`~mjstruct.kinematics.steps.gears`: gear (a link turned by Willis' equations
+  from the drivers), gear-link (by its mate's turn relative to the carrier).
 
 A new step kind goes into the module of its family (or a new module imported here):
 a :class:`StepKind` passed to :func:`register`, and a :class:`PlanRule` passed to
@@ -18,12 +20,12 @@ a :class:`StepKind` passed to :func:`register`, and a :class:`PlanRule` passed t
 Examples
 --------
 >>> [r.name for r in PLAN_RULES]
-['drivers', 'place', 'revolute dyads', 'RPR', 'PRP', 'RPP']
+['drivers', 'gears', 'gear links', 'place', 'revolute dyads', 'RPR', 'PRP', 'RPP']
 >>> sorted(STEP_KINDS)[:4]
 ['PRP', 'RPP', 'RPR', 'RRP']
 """
 
-from mjstruct.kinematics.steps import closures, drivers, dyads, line_dyads
+from mjstruct.kinematics.steps import closures, drivers, dyads, gears, line_dyads
 from mjstruct.kinematics.steps.base import (
     PLAN_RULES,
     STEP_KINDS,
@@ -50,6 +52,7 @@ __all__ = [
     "closures",
     "drivers",
     "dyads",
+    "gears",
     "line_dyads",
     "other_link",
     "register",

@@ -15,6 +15,8 @@ Examples
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from mjstruct.kinematics.steps.base import (
@@ -45,10 +47,7 @@ def _driver(s: Step, k: int, run: Run) -> None:
     dq = sign * (run.q[:, s.index] - run.geometry.driver_ref[s.joint])
     dq1 = sign * run.rates[..., s.index]
     if s.kind == "driver-R":
-        low = run.lower_pose(driven)
-        r = base.r * np.exp(1j * dq) if low is None else low[0]
-        w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
-        run.place(driven, Pose(C[s.joint], run.centre(s.joint), r, w))
+        place_turned(run, driven, s.joint, base, dq, dq1)
         return
     A = base.carry(C[s.joint])
     u = base.vector(run.geometry.axes[s.joint])
@@ -58,6 +57,15 @@ def _driver(s: Step, k: int, run: Run) -> None:
     if run.order >= 2:
         X.append(A[2] + 2 * dq1 * u[1] + dq * u[2])
     run.place(driven, Pose(C[s.joint], X, base.r, list(base.w)))
+
+
+def place_turned(run: Run, link: str, joint: str, base: Pose, dq: Any, dq1: Any) -> None:
+    """Place ``link`` turned about ``joint`` on ``base`` by ``dq`` from the reference,
+    at the rate ``dq1`` relative to it (no relative acceleration: constant rates)."""
+    low = run.lower_pose(link)
+    r = base.r * np.exp(1j * dq) if low is None else low[0]
+    w: Jet = [base.w[0] + dq1, *base.w[1:]] if run.order else []
+    run.place(link, Pose(run.geometry.centres[joint], run.centre(joint), r, w))
 
 
 def _assume_slide(s: Step, k: int, run: Run) -> None:
