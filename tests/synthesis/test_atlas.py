@@ -190,6 +190,26 @@ def test_cli_atlas_json_contract(capsys: pytest.CaptureFixture[str]) -> None:
         assert canonical_code(m) == c["canonical"]
 
 
+def test_cli_atlas_summary_makes_no_row_per_chain(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The text summary counts the chains without a dictionary per chain (an atlas
+    holds hundreds of thousands: they were most of the command's memory); --list and
+    --json make them, and the summary's counts are the listed chains'."""
+    from mjstruct.synthesis.atlas import Chain
+
+    made = []
+    real = Chain.to_dict
+    monkeypatch.setattr(Chain, "to_dict", lambda c: made.append(c) or real(c))
+    assert main(["atlas", "--dof", "1", "--links", "8", "--mj"]) == 0
+    summary = capsys.readouterr().out.splitlines()
+    assert made == []
+    assert main(["atlas", "--dof", "1", "--links", "8", "--mj", "--list"]) == 0
+    listed = capsys.readouterr().out.splitlines()
+    assert len(made) == int(summary[0].split(": ")[1].split()[0]) > 0
+    assert listed[: len(summary)] == summary
+
+
 def test_cli_atlas_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["atlas", "--dof", "1", "--links", "0"]) == 2
     err = capsys.readouterr().err

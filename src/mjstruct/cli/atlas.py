@@ -63,12 +63,15 @@ def run(args: argparse.Namespace) -> int:
 
     bar = ProgressBar.for_cli(f"atlas F={args.dof} n={args.links}", args.json)
     a = _run_atlas(args, bar)
-    names = familiar_names()
-    ids = _ids(a.chains, args.dof, args.links)
+    # one row per chain only where the output shows them (an atlas holds hundreds of
+    # thousands: the summary alone needs none of their dictionaries)
+    rows = args.json or args.list
+    names = familiar_names() if rows else {}
+    ids = _ids(a.chains, args.dof, args.links) if rows or args.draw is not None else {}
     if args.draw is not None:
         _draw_sheet(args, a.chains, ids)
     chains = []
-    for c in a.chains:
+    for c in a.chains if rows else ():
         d: dict[str, Any] = {"id": ids.get(c.canonical), "name": names.get(c.canonical)}
         d.update(c.to_dict())
         d["cell"] = [c.K, c.V]

@@ -46,11 +46,15 @@ True
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Collection, Sequence
 from typing import Any, Literal
 
 import pynauty
+
+try:  # CPython's own SHA-256: hashlib's OpenSSL library costs a tenth of a CLI start-up
+    from _sha256 import sha256
+except ImportError:  # another interpreter or version: the same digest from hashlib
+    from hashlib import sha256
 
 from mjstruct.errors import MechanismError
 from mjstruct.mechanism import Mechanism, expect_mechanism
@@ -89,7 +93,7 @@ def code_of(level_prefix: str, n: int, p: int, sizes: str, certificate: bytes) -
 
     ``sizes`` are the colour-class sizes (they make the certificate comparable).
     """
-    digest = hashlib.sha256(sizes.encode() + b"|" + certificate).hexdigest()[:32]
+    digest = sha256(sizes.encode() + b"|" + certificate).hexdigest()[:32]
     return f"{level_prefix}{n}.{p}-{digest}"
 
 
