@@ -10,7 +10,11 @@ driving), ``reactions`` (the stacked linear system), ``joint_loads`` (the forces
 reactions steps and the check), ``analysis`` (the entry point: the steps in order),
 ``result`` (the result and its JSON), ``report`` (text and CSV), ``time`` (motion in
 time: run-up and run-down, stiffness test, explicit or implicit integrators) on
-``time_terms`` (V, W and the loads' analogs at any q).
+``time_terms`` (V, W and the loads' analogs at any q); ``elements`` (the force
+elements of the file: springs, dampers, elastic slides, motors) and ``element_loads``
+(their loads at the centres of mass), ``lagrange`` (``M(q) q̈ + h = Q`` for any number
+of drivers), ``forward`` (its motion in time) and ``forward_report`` (what the command
+prints of it).
 
 References
 ----------

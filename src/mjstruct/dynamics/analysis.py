@@ -121,6 +121,17 @@ def dynamic_analysis(
         check_dimensions(model)
     data.check_speed("speed", speed)
     data.check_speed("qdot0", qdot0)
+    if qdot0 is not None and (D > 1 or data.elements):
+        why = f"{D} drivers" if D > 1 else "force elements"
+        raise MechanismError(
+            f"qdot0: free motion of a mechanism with {why} is integrated in time "
+            "(forward_dynamics; mjstruct dynamics FILE --time T --qdot0 W1,W2)"
+        )
+    if data.elements and data.unknown is not None and speed is not None:
+        raise MechanismError(
+            f"parameters.{data.unknown}: steady motion does not take the work of force "
+            "elements; give its value"
+        )
 
     if speed is not None:
         run = constant_speed(model, data, speed, frames, method, n, harmonics)

@@ -1,7 +1,8 @@
 """Dynamics data of a mechanism file: inertia, gravity, parameters, loads, read and checked.
 
 Owns the file keys ``inertia``, ``gravity``, ``parameters``, ``loads`` and
-``energy_change`` (kept by the reader in :attr:`Mechanism.extra`): their validation
+``energy_change`` (kept by the reader in :attr:`Mechanism.extra`; the ``elements``
+are read by :mod:`mjstruct.dynamics.elements` and held here): their validation
 (every error names its field) and the loads compiled to numpy functions of the
 driver coordinate ``q``, the speed ``qdot`` and the parameters: read once per mechanism
 object and kept until it is garbage-collected (:func:`read_dynamics`).
@@ -36,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from mjstruct.dynamics.elements import Element, read_elements
 from mjstruct.dynamics.expressions import parse_expression, reserved_names, switch_functions
 from mjstruct.errors import MechanismError
 from mjstruct.kinematics.geometry import diameter
@@ -50,7 +52,7 @@ if TYPE_CHECKING:
 FloatArray = npt.NDArray[np.float64]
 
 #: the file keys this module reads
-KEYS = ("inertia", "gravity", "parameters", "loads", "energy_change")
+KEYS = ("inertia", "gravity", "parameters", "loads", "energy_change", "elements")
 
 #: the largest characteristic load, inertia or kinetic energy a run may start from: a
 #: double reaches 1.8e308, the rest is the margin for sums over the links, analogs near
@@ -235,6 +237,8 @@ class DynamicsData:
     mass_reach : Σ m R (the inertia forces' order of magnitude per unit speed²).
     lever, lever_field : the largest distance of a centre of mass or a load's point
         from its link's joints, in mechanism sizes, and the field that sets it.
+    elements : the force elements (springs, dampers, elastic slides, motors; see
+        :mod:`mjstruct.dynamics.elements`).
     """
 
     inertia: dict[str, LinkInertia]
@@ -248,6 +252,7 @@ class DynamicsData:
     mass_reach: float = 0.0
     lever: float = 0.0
     lever_field: str = ""
+    elements: tuple[Element, ...] = ()
 
     def check_speed(self, name: str, speed: float | None) -> None:
         """Refuse a driver speed whose accelerations, kinetic energy or inertia forces
@@ -300,6 +305,7 @@ class DynamicsData:
             self.mass_reach,
             self.lever,
             self.lever_field,
+            self.elements,
         )
 
     def parameter_values(self, **given: float) -> dict[str, float]:
@@ -482,9 +488,10 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
         _read_load(spec, k, m, inertia, list(parameters), reach)
         for k, spec in enumerate(raw_loads)
     )
-    if unknowns and not any(
-        unknowns[0] in {s.name for e in ld.exprs for s in e.free_symbols} for ld in loads
-    ):
+    elements = read_elements(m, centres, list(parameters), MAGNITUDE_LIMIT, MAX_LEVER)
+    used = {s.name for ld in loads for e in ld.exprs for s in e.free_symbols}
+    used |= {a for el in elements for a in el.arguments}
+    if unknowns and unknowns[0] not in used:
         raise MechanismError(f"parameters.{unknowns[0]}: the unknown appears in no load")
     return DynamicsData(
         inertia=inertia,
@@ -498,6 +505,7 @@ def _read(m: Mechanism, geometry: Geometry | None) -> DynamicsData:
         mass_reach=mass_reach,
         lever=reach.lever,
         lever_field=reach.lever_field,
+        elements=elements,
     )
 
 

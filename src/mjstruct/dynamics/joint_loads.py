@@ -31,6 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mjstruct.dynamics.data import DynamicsData
+from mjstruct.dynamics.element_loads import element_loads
 from mjstruct.dynamics.matrices import LinkMotion, active_forces
 from mjstruct.dynamics.reactions import (
     SINGULAR_CONDITION,
@@ -96,7 +97,8 @@ def link_loads(
     q: npt.ArrayLike,
     qdot: npt.ArrayLike,
 ) -> LinkLoads:
-    """The forces step: active loads (gravity included) and inertia loads ``−m a``, ``−J ε``.
+    """The forces step: active loads (gravity and the force elements included) and inertia
+    loads ``−m a``, ``−J ε``.
 
     ``q``, ``qdot``: what the load expressions see (the first driver's coordinate and
     speed).
@@ -104,6 +106,9 @@ def link_loads(
     mass = np.array([data.inertia[x].mass for x in lm.links])
     J = np.array([data.inertia[x].J for x in lm.links])
     fa, ma = active_forces(data, lm, parameters, q, qdot)
+    if data.elements:
+        el = element_loads(data, lm, parameters)
+        fa, ma = fa + el.force, ma + el.moment
     fi, mi = inertia_loads(lm, mass, J)
     return LinkLoads(fa, ma, fi, mi, data.lever, data.lever_field)
 

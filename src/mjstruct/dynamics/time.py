@@ -309,6 +309,23 @@ def _integrate(
     return _Path((first, _solve(eq, (t1, t_end), y1, "Radau", rtol, atol, rest, False, budget)))
 
 
+def check_run(t_end: float, frames: int, method: str, rtol: float, atol: float | None) -> None:
+    """Refuse the arguments of a run in time that are not what they must be, naming each
+    (``t_end``, ``frames``, ``method``, ``rtol``, ``atol``)."""
+    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.floating)):
+        raise MechanismError("t_end: must be a number")
+    if not np.isfinite(t_end) or t_end <= 0:
+        raise MechanismError(f"t_end: must be a finite number > 0, got {t_end}")
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
+        raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
+    if method not in SOLVERS:
+        raise MechanismError(f"method: unknown solver {method!r} (one of {', '.join(SOLVERS)})")
+    if not (np.isfinite(rtol) and TIGHTEST <= rtol < 1):
+        raise MechanismError(f"rtol: must be in [{TIGHTEST:g}, 1), got {rtol}")
+    if atol is not None and not (np.isfinite(atol) and atol > 0):
+        raise MechanismError(f"atol: must be a finite number > 0, got {atol}")
+
+
 def motion_in_time(
     mechanism: Mechanism | KinematicModel,
     t_end: float,
@@ -363,16 +380,11 @@ def motion_in_time(
     NumericalError
         the mechanism leaves its assembly or the solver fails.
     """
-    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.floating)):
-        raise MechanismError("t_end: must be a number")
-    if not np.isfinite(t_end) or t_end <= 0:
-        raise MechanismError(f"t_end: must be a finite number > 0, got {t_end}")
+    check_run(t_end, frames, method, rtol, atol)
     if not np.isfinite(qdot0):
         raise MechanismError(f"qdot0: must be finite, got {qdot0}")
     if q0 is not None and not np.isfinite(q0):
         raise MechanismError(f"q0: must be finite, got {q0}")
-    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 2:
-        raise MechanismError(f"frames: must be an integer >= 2, got {frames}")
     max_evaluations = expect_int(max_evaluations, "max_evaluations", 1)
     budget = _Budget(max_evaluations)
     out_times = np.linspace(0.0, float(t_end), int(frames))
@@ -386,12 +398,6 @@ def motion_in_time(
             and (np.diff(out_times) > 0).all()
         ):
             raise MechanismError("times: must increase from 0 to t_end (at least two values)")
-    if method not in SOLVERS:
-        raise MechanismError(f"method: unknown solver {method!r} (one of {', '.join(SOLVERS)})")
-    if not (np.isfinite(rtol) and TIGHTEST <= rtol < 1):
-        raise MechanismError(f"rtol: must be in [{TIGHTEST:g}, 1), got {rtol}")
-    if atol is not None and not (np.isfinite(atol) and atol > 0):
-        raise MechanismError(f"atol: must be a finite number > 0, got {atol}")
     if table is not None and (isinstance(table, bool) or int(table) != table or table < 16):
         raise MechanismError(f"table: must be an integer >= 16 or None, got {table}")
     if isinstance(mechanism, KinematicModel):
@@ -562,16 +568,12 @@ def _stiffness(eq: ReducedEquation, q0: float, qdot0: float, t_end: float) -> fl
     return float(np.nanmax(np.abs(b))) * t_end
 
 
-def time_json(r: TimeMotion) -> dict[str, Any]:
-    """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
+def solver_account(r: Any) -> dict[str, Any]:
+    """The JSON keys of a run in time that say what the solver did and how accurate it
+    is (``parameters``, ``solver``, ``steps``, ``evaluations``, ``stiffness_ratio``,
+    ``error``), for :class:`TimeMotion` and for
+    :class:`~mjstruct.dynamics.forward.ForwardMotion`."""
     return {
-        "t": json_list(r.t),
-        "q": json_list(r.q),
-        "qdot": json_list(r.qdot),
-        "qddot": json_list(r.qddot),
-        "V": json_list(r.V),
-        "Q": json_list(r.Q),
-        "work": json_list(r.work),
         "parameters": {k: json_number(v) for k, v in r.parameters.items()},
         "solver": r.solver,
         "steps": r.steps,
@@ -586,6 +588,20 @@ def time_json(r: TimeMotion) -> dict[str, Any]:
             "qdot": json_number(r.error_qdot),
             "energy": json_number(r.energy_residual),
         },
+    }
+
+
+def time_json(r: TimeMotion) -> dict[str, Any]:
+    """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
+    return {
+        "t": json_list(r.t),
+        "q": json_list(r.q),
+        "qdot": json_list(r.qdot),
+        "qddot": json_list(r.qddot),
+        "V": json_list(r.V),
+        "Q": json_list(r.Q),
+        "work": json_list(r.work),
+        **solver_account(r),
         "coefficients": r.coefficients,
         "table_error": json_number(r.table_error),
         "table_points": r.table_points,
