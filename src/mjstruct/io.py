@@ -104,7 +104,7 @@ def _size(n: int) -> str:
 
 def _decode(data: bytes, source: str) -> str:
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8-sig")  # a byte-order mark, as some editors write, is no text
     except UnicodeDecodeError:
         raise MechanismError(f"{source}: cannot read (not UTF-8 text)") from None
 
@@ -144,6 +144,38 @@ _SUSPECT_NUMBER = re.compile(r"[0-9_]{300,}|[eE][+-]?[0-9_]{3,}|inf|nan", re.IGN
 _ID_KEYS = frozenset({"id", "link", "links", "frame", "drivers"})
 
 
+# JSON may escape half of a UTF-16 pair alone (\ud800): no character, and no UTF-8 file
+# (a report, a converted file) can hold it
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def _refuse_surrogates(data: Any) -> None:
+    """Refuse a string (or key) holding a lone surrogate, naming its field: it is no
+    character, and writing it anywhere (a report, a converted file) would fail."""
+    stack: list[tuple[Any, str]] = [(data, "")]
+    while stack:
+        value, where = stack.pop()
+        if isinstance(value, Mapping):
+            for k, v in value.items():
+                here = f"{where}.{k}" if where else str(k)
+                if _SURROGATE.search(str(k)):
+                    raise MechanismError(f"{where or 'file'}: a key holds a lone surrogate")
+                stack.append((v, here))
+        elif isinstance(value, list):
+            stack.extend((v, f"{where}[{i}]") for i, v in enumerate(value))
+        elif isinstance(value, str):
+            _refuse_surrogate(value, where)
+
+
+def _refuse_surrogate(text: str, where: str) -> None:
+    found = _SURROGATE.search(text)
+    if found is not None:
+        code = f"\\u{ord(found.group()):04x}"
+        raise MechanismError(
+            f"{where}: holds a lone UTF-16 surrogate ({code}), which is no character"
+        )
+
+
 def _refuse_unrepresentable(data: Any) -> None:
     """Refuse a number no double can hold, naming its field (``parameters.p``).
 
@@ -172,6 +204,8 @@ def _refuse_unrepresentable(data: Any) -> None:
 def _ident(value: Any, where: str) -> str:
     if isinstance(value, bool) or not isinstance(value, (str, int)):
         raise MechanismError(f"{where}: an id must be a string or an integer, got {value!r}")
+    if isinstance(value, str):
+        _refuse_surrogate(value, where)
     return str(value)
 
 
@@ -249,6 +283,7 @@ def mechanism_from_dict(data: Any) -> Mechanism:
         )
     name = data.get("name", "")
     extra = {k: v for k, v in data.items() if k not in _KNOWN_KEYS}
+    _refuse_surrogates({"name": str(name), **extra})
     m = Mechanism(
         links=links,
         joints=tuple(joints),
@@ -294,18 +329,30 @@ def mechanism_to_dict(m: Mechanism) -> dict[str, Any]:
     return out
 
 
+def _toml_string(text: str) -> str:
+    """A TOML basic string: JSON's escapes, which TOML shares, and DEL (U+007F), which
+    JSON leaves raw and TOML forbids raw (as it does U+0000-U+001F but the tab).
+
+    >>> print(_toml_string("a" + chr(0x7F) + "b" + chr(0x1B)))
+    "a\\u007fb\\u001b"
+    """
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
 def _toml_value(v: Any) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, (int, float)):
         return repr(v)
     if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
+        return _toml_string(v)
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     if isinstance(v, Mapping):  # TOML has no null: a key whose value is null is left out
         items = [(k, x) for k, x in v.items() if x is not None]
-        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in items) + "}"
+        return (
+            "{" + ", ".join(f"{_toml_string(str(k))} = {_toml_value(x)}" for k, x in items) + "}"
+        )
     raise MechanismError(f"cannot write {type(v).__name__} value {v!r} as TOML")
 
 
@@ -322,11 +369,11 @@ def mechanism_to_toml(m: Mechanism) -> str:
     expect_mechanism(m)
     d = mechanism_to_dict(m)
     tables = {k: d.pop(k) for k in ("joints", "points") if k in d}
-    lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in d.items() if v is not None]
+    lines = [f"{_toml_string(k)} = {_toml_value(v)}" for k, v in d.items() if v is not None]
     for key, rows in tables.items():
         for row in rows:
             lines.append(f"\n[[{key}]]")
-            lines.extend(f"{json.dumps(k)} = {_toml_value(v)}" for k, v in row.items())
+            lines.extend(f"{_toml_string(k)} = {_toml_value(v)}" for k, v in row.items())
     return "\n".join(lines) + "\n"
 
 

@@ -212,3 +212,24 @@ def test_labels_keep_off_the_target_crosses():
     for label, box in after:
         for x, y in crosses:
             assert not box.contains(x, y), label.get_gid()
+
+
+def test_a_target_too_far_out_to_draw_is_refused_naming_it(tmp_path, capsys):
+    # issue 37: a target at 1e300 was drawn pressed into the picture's corner
+    import json
+
+    from mjstruct.cli.main import main
+    from project_paths import EXAMPLES
+
+    m = json.loads((EXAMPLES / "four-bar.json").read_text())
+    m["synthesis"] = {"task": "path", "point": "M", "targets": [[0.5, 1.0], [1e300, 1e300]]}
+    path = tmp_path / "far.json"
+    path.write_text(json.dumps(m))
+    out = tmp_path / "far.svg"
+    assert main(["draw", str(path), "-o", str(out), "--show", "paths"]) == 2
+    err = capsys.readouterr().err
+    assert "synthesis.targets: target 2 at [1e+300, 1e+300] lies too far out" in err
+    assert not out.exists()
+    m["synthesis"]["targets"][1] = [1e3, 1e3]  # far, but a task could have it
+    path.write_text(json.dumps(m))
+    assert main(["draw", str(path), "-o", str(out), "--show", "paths"]) == 0

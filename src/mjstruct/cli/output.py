@@ -26,7 +26,7 @@ import signal
 import stat
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from functools import partial
 from typing import TYPE_CHECKING, Any
@@ -191,19 +191,27 @@ def driver_list(text: str | None, m: Mechanism) -> list[str] | None:
 
 
 #: the argument names of the files a command writes, and their flags
-OUTPUT_FLAGS = {"output": "-o", "csv": "--csv", "draw": "--draw"}
+OUTPUT_FLAGS = {
+    "output": "-o",
+    "csv": "--csv",
+    "draw": "--draw",
+    "history": "--history",
+    "targets_chart": "--targets-chart",
+}
 #: the argument names of the files a command reads
-INPUT_ARGUMENTS = ("file", "input", "file_a", "file_b")
+INPUT_ARGUMENTS = ("file", "input", "file_a", "file_b", "task")
 
 
-def check_outputs(args: argparse.Namespace) -> None:
+def check_outputs(args: argparse.Namespace, extra_inputs: Mapping[str, str] | None = None) -> None:
     """Refuse, before any work, an output that cannot be written as the contract says.
 
     Each output a command was given (``-o``, ``--csv``, ``--draw``) is checked with
     its links followed (:func:`mjstruct.output_files.output_target`): a loop of links,
     a directory or a link to a file of another kind is bad input naming the flag, and
     so is an output that is the very file the command reads (writing it would destroy
-    the input).
+    the input; ``extra_inputs`` adds files the input names, each with its description,
+    such as a task's mechanism file) or the file of another output (one would silently
+    replace the other).
 
     >>> ns = argparse.Namespace(file="four-bar.json", output="four-bar.json")
     >>> check_outputs(ns)
@@ -218,16 +226,23 @@ def check_outputs(args: argparse.Namespace) -> None:
 
     from mjstruct.output_files import output_target, same_file
 
-    inputs = [
-        path
+    inputs = {
+        path: "the input file"
         for path in (getattr(args, a, None) for a in INPUT_ARGUMENTS)
         if isinstance(path, str) and path != "-"
-    ]
+    }
+    inputs.update(extra_inputs or {})
+    written: dict[str, str] = {}  # the file each output names -> its flag
     for attr, flag in outputs:
         out = getattr(args, attr, None)
         if not isinstance(out, str) or out == "-":
             continue
-        for path in inputs:  # first: the most telling refusal
+        for path, what in inputs.items():  # first: the most telling refusal
             if same_file(path, out) or os.path.realpath(path) == os.path.realpath(out):
-                raise MechanismError(f"{flag}: {out} is the input file (write elsewhere)")
-        output_target(out, flag)  # loops, directories, links to another kind of file
+                raise MechanismError(f"{flag}: {out} is {what} (write elsewhere)")
+        target = str(output_target(out, flag))  # loops, directories, links to another kind
+        if target in written:
+            raise MechanismError(
+                f"{flag}: {out} is also the output of {written[target]} (write elsewhere)"
+            )
+        written[target] = flag

@@ -42,11 +42,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--mj", action="store_true", help="with --atlas: chains with multiple joints too"
     )
+    p.add_argument(
+        "--max-memory",
+        type=int,
+        metavar="BYTES",
+        help="refuse searches estimated above this (default $MJSTRUCT_MAX_MEMORY_BYTES or 2 GiB)",
+    )
     p.add_argument("--json", action="store_true", help="print the contract's JSON object")
 
 
 def run(args: argparse.Namespace) -> int:
-    from mjstruct.design.api import load_task, synthesize
+    from mjstruct.design.api import synthesize
+    from mjstruct.design.task import read_task_data, task_from_dict
     from mjstruct.plot.files import FIGURE_SUFFIXES, check_output
     from mjstruct.synthesis.parallel import ProgressBar
 
@@ -61,16 +68,26 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.targets_chart, FIGURE_SUFFIXES, name="--targets-chart")
     if args.mj and args.atlas is None:
         raise MechanismError("--mj: needs --atlas")
+    if args.max_memory is not None and args.max_memory <= 0:
+        raise MechanismError(
+            f"--max-memory: must be a positive number of bytes, got {args.max_memory}"
+        )
+    data = read_task_data(args.task)  # once: the task may come from standard input
+    _check_task_outputs(args, data)
     if args.atlas is not None:
-        return _run_atlas(args)
-    task = load_task(args.task)
+        return _run_atlas(args, data)
+    task = task_from_dict(data, source=str(args.task))
     bar = ProgressBar.for_cli(f"synthesize {task.kind}", args.json)
     with flag_names(workers="--workers", scheduler="--scheduler", seed="--seed"):
         result = synthesize(
-            task, seed=args.seed, workers=args.workers, scheduler=args.scheduler, progress=bar
+            task,
+            seed=args.seed,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=bar,
+            max_memory=args.max_memory,
         )
-    _write(result.mechanism, args.output)
-    _charts(args, result)
+    _write_outputs(args, result)
     if args.json:
         out = result.to_dict()
         out["output"] = args.output
@@ -120,13 +137,27 @@ def _singular_report(m: Any) -> str:
     return "\n".join([*lines, render_singular(analysis)])
 
 
-def _run_atlas(args: argparse.Namespace) -> int:
+def _check_task_outputs(args: argparse.Namespace, data: dict[str, Any]) -> None:
+    """Before any work: no output onto the task's mechanism file (nor onto the task,
+    nor two outputs onto one file: :func:`~mjstruct.cli.output.check_outputs`), and no
+    chart the task cannot have."""
+    from mjstruct.cli.output import check_outputs
+
+    mechanism = data.get("mechanism")
+    if isinstance(mechanism, str):
+        check_outputs(args, {mechanism: f"the task's mechanism file ({mechanism})"})
+    if args.targets_chart is not None and data.get("task") == "fourbar-ms":
+        raise MechanismError(
+            "--targets-chart: a fourbar-ms task has no targets to draw (draw the "
+            "written four-bar with mjstruct draw)"
+        )
+
+
+def _run_atlas(args: argparse.Namespace, data: dict[str, Any]) -> int:
     """``--atlas N``: every candidate topology on the task, ranked; the best written."""
     from mjstruct.design.atlas import synthesize_atlas
-    from mjstruct.design.task import read_task_data
     from mjstruct.synthesis.parallel import ProgressBar
 
-    data = read_task_data(args.task)
     bar = ProgressBar.for_cli(f"synthesize --atlas {args.atlas}", args.json)
     with flag_names(links="--atlas", workers="--workers", scheduler="--scheduler"):
         r = synthesize_atlas(
@@ -137,6 +168,7 @@ def _run_atlas(args: argparse.Namespace) -> int:
             workers=args.workers,
             scheduler=args.scheduler,
             progress=bar,
+            max_memory=args.max_memory,
         )
     best = r.best
     if best is None:
@@ -144,8 +176,7 @@ def _run_atlas(args: argparse.Namespace) -> int:
 
         why = r.ranked[0].reason if r.ranked else "no candidate"
         raise NumericalError(f"no feasible design: no candidate topology gave one ({why})")
-    _write(best.mechanism, args.output)
-    _charts(args, best)
+    _write_outputs(args, best)
     ranking = [x.to_dict() for x in r.ranked]
     if args.json:
         out = best.to_dict()
@@ -191,34 +222,55 @@ def atlas_lines(ranking: list[dict[str, Any]], links: int, seconds: float, seed:
     return lines
 
 
-def _charts(args: argparse.Namespace, result: Any) -> None:
-    """The charts asked for (after the design is written)."""
-    if args.history is None and args.targets_chart is None:
-        return
-    import matplotlib
+def _write_outputs(args: argparse.Namespace, result: Any) -> None:
+    """The design (``-o``) and the charts asked for, all or nothing: every chart is
+    drawn first, then each file is written under a temporary name, and only when all
+    are written are they moved into place."""
+    from contextlib import ExitStack
 
-    matplotlib.use("Agg")
-    from mjstruct.plot.design_charts import write_history_chart, write_targets_chart
-
-    if args.history is not None:
-        write_history_chart(result, args.history, name="--history")
-    if args.targets_chart is not None:
-        write_targets_chart(result.mechanism, args.targets_chart, name="--targets-chart")
-
-
-def _write(m: Any, path: str) -> None:
     from mjstruct.io import mechanism_to_dict, mechanism_to_toml
-    from mjstruct.plot.files import write_atomically
+    from mjstruct.output_files import replacing
 
-    if Path(path).suffix.lower() == ".toml":
-        text = mechanism_to_toml(m)
+    if Path(args.output).suffix.lower() == ".toml":
+        text = mechanism_to_toml(result.mechanism)
     else:
-        text = dumps(mechanism_to_dict(m)) + "\n"
+        text = dumps(mechanism_to_dict(result.mechanism)) + "\n"
+    figures: list[tuple[str, str, Any]] = []
+    if args.history is not None or args.targets_chart is not None:
+        import matplotlib
 
-    def write(tmp: str) -> None:
-        Path(tmp).write_text(text, encoding="utf-8")
+        matplotlib.use("Agg")
+    try:
+        if args.history is not None:
+            from mjstruct.plot.design_charts import draw_history
 
-    write_atomically(path, write, name="-o")
+            figures.append((args.history, "--history", draw_history(result)))
+        if args.targets_chart is not None:
+            from mjstruct.plot.design_charts import draw_targets
+
+            with flag_names(mechanism="--targets-chart"):
+                fig = draw_targets(result.mechanism)
+            figures.append((args.targets_chart, "--targets-chart", fig))
+        flag = "-o"
+        try:
+            with ExitStack() as files:
+                tmp = files.enter_context(replacing(args.output, "-o"))
+                Path(tmp).write_text(text, encoding="utf-8")
+                for path, flag, fig in figures:
+                    tmp = files.enter_context(replacing(path, flag))
+                    try:
+                        fig.savefig(tmp)
+                    except ValueError as exc:  # matplotlib refusing the figure
+                        raise MechanismError(f"{flag}: cannot draw the chart ({exc})") from None
+        except OSError as exc:
+            reason = exc.strerror or type(exc).__name__
+            raise MechanismError(f"{flag}: cannot write ({reason})") from None
+    finally:
+        if figures:
+            import matplotlib.pyplot as plt
+
+            for _, _, fig in figures:
+                plt.close(fig)
 
 
 def _num(x: Any, fmt: str = ".6g") -> str:

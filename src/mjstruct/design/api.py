@@ -45,6 +45,7 @@ def synthesize(
     workers: int = 1,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
+    max_memory: int | None = None,
 ) -> DesignResult:
     """Synthesise the mechanism a task asks for.
 
@@ -55,11 +56,14 @@ def synthesize(
     workers : processes for the independent restarts (at most the number of cores).
     scheduler : a Dask scheduler address to run the restarts on instead.
     progress : called as ``progress(done, total)`` while the search runs.
+    max_memory : the limit (bytes) on the search's estimated memory (default 2 GiB, or
+        the environment variable ``MJSTRUCT_MAX_MEMORY_BYTES``).
 
     Raises
     ------
     MechanismError
-        bad task input (one line naming the field).
+        bad task input (one line naming the field), or a search whose estimated
+        memory exceeds the limit (naming the task field that needs it).
     NumericalError
         no feasible design was found (``no feasible design: ...``).
     """
@@ -82,6 +86,31 @@ def synthesize(
         from mjstruct.design.motion import motion_problem
 
         problem = motion_problem(t)
+    from mjstruct.design.memory import check_synthesis_memory
     from mjstruct.design.search import solve
 
-    return solve(problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress)
+    check_synthesis_memory(problem, t.solver, max_memory)
+    result = solve(
+        problem, seed, t.solver, workers=workers, scheduler=scheduler, progress=progress
+    )
+    _final_verdict(t, result, max(360, 4 * int(getattr(problem, "samples", 90))))
+    return result
+
+
+def _final_verdict(task: Task, result: DesignResult, frames: int) -> None:
+    """Refuse a result that breaks a promise of the contract, judged from the design as
+    it will be written (:func:`mjstruct.design.verify.final_verdict`)."""
+    import json
+
+    from mjstruct.design.verify import final_verdict
+    from mjstruct.errors import NumericalError
+    from mjstruct.io import mechanism_from_dict, mechanism_to_dict
+
+    written = mechanism_from_dict(json.loads(json.dumps(mechanism_to_dict(result.mechanism))))
+    timing = result.details.get("timing", [])
+    offset = float(result.details.get("angle_offset", 0.0))
+    broken = final_verdict(task, written, timing, result.errors, offset, frames)
+    if broken:
+        raise NumericalError(
+            f"no feasible design: the final verdict refused the best ({broken[0]})"
+        )

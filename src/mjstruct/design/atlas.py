@@ -182,16 +182,27 @@ class AtlasResult:
         return None if first is None else first.result
 
 
-def _one(job: tuple[dict[str, Any], int, Candidate]) -> Ranked:
+def _one(job: tuple[dict[str, Any], int, Candidate, int | None]) -> Ranked:
     from mjstruct.design.api import synthesize
 
-    task, seed, cand = job
+    task, seed, cand, max_memory = job
     try:
-        return Ranked(cand, synthesize(task, seed=seed))
+        return Ranked(cand, synthesize(task, seed=seed, max_memory=max_memory))
     except NumericalError as exc:
         return Ranked(cand, None, str(exc))
     except MechanismError as exc:
         return Ranked(cand, None, f"not ranked: {exc}")
+
+
+def _problem(task: Any) -> Any:
+    """The fitting problem of a path or motion task (for its memory estimate)."""
+    if task.kind == "motion":
+        from mjstruct.design.motion import motion_problem
+
+        return motion_problem(task)
+    from mjstruct.design.path import path_problem
+
+    return path_problem(task)
 
 
 def synthesize_atlas(
@@ -202,6 +213,7 @@ def synthesize_atlas(
     workers: int = 1,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
+    max_memory: int | None = None,
 ) -> AtlasResult:
     """Try every candidate topology of the atlas on ``task`` (a task object) and rank them.
 
@@ -211,15 +223,27 @@ def synthesize_atlas(
     Raises
     ------
     MechanismError
-        bad task input, or keys that name the task's own joints.
+        bad task input, keys that name the task's own joints, a number of links no
+        one-DOF chain has or too many chains to try (naming ``links``), a search whose
+        estimated memory exceeds ``max_memory``.
     """
-    from mjstruct.design.task import task_from_dict
+    from mjstruct.design.api import load_task
+    from mjstruct.design.memory import check_synthesis_memory
+    from mjstruct.synthesis.job_size import CHAIN_LIMIT, chain_count_estimate, check_size
     from mjstruct.synthesis.parallel import run_tasks
 
     if links < 4:
         raise MechanismError(
             f"links: an atlas of one-DOF chains needs at least 4 links, got {links}"
         )
+    if links % 2:
+        raise MechanismError(
+            f"links: a one-DOF chain has an even number of links (3(n - 1) = 2j + 1 "
+            f"needs n even), got {links}"
+        )
+    what = f"one-DOF chains of {links} links" + (" with multiple joints" if mj else "")
+    estimate = chain_count_estimate(1, links, mj, False)
+    check_size(estimate, what, CHAIN_LIMIT, "links", loops=(links - 2) // 2)
     for key in OWN_KEYS:
         if key in task:
             raise MechanismError(f"{key}: names joints of one mechanism; not used with an atlas")
@@ -236,10 +260,12 @@ def synthesize_atlas(
         data["point"] = point
         if not checked:  # bad task input is the same for every candidate: say it once
             data["mechanism"] = random_start(c, point, np.zeros((1, 2)), np.random.default_rng(0))
-            targets = task_from_dict(data).targets
+            first = load_task(data)
+            targets = first.targets
+            check_synthesis_memory(_problem(first), first.solver, max_memory)
             checked = True
         data["mechanism"] = random_start(c, point, targets, np.random.default_rng(rng_seeds[k]))
-        jobs.append((data, rng_seeds[k], c))
+        jobs.append((data, rng_seeds[k], c, max_memory))
     ranked = list(run_tasks(_one, jobs, workers, progress, scheduler))
     ranked.sort(key=lambda r: (r.result is None, r.result.objective if r.result else math.inf))
     return AtlasResult(tuple(ranked), time.perf_counter() - t0, seed, {"links": links, "mj": mj})

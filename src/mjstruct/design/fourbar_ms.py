@@ -291,15 +291,34 @@ def _roots(fun: Callable[[float], float], vs: Sequence[float]) -> tuple[list[flo
     return unique, [f for f in fs if math.isfinite(f)]
 
 
-def _target(c: _Counter, what: str, value: float) -> Callable[[float, float], float]:
-    """``theory(P1, P2).what - value`` (NaN where the four-bar is not of the motion)."""
+def _target(
+    c: _Counter, what: str, value: float, seen: list[float] | None = None
+) -> Callable[[float, float], float]:
+    """``theory(P1, P2).what - value`` (NaN where the four-bar is not of the motion);
+    the values themselves are added to ``seen`` (the reachable range, which the
+    residuals lose beside a large ``value``)."""
 
     def f(P1: float, P2: float) -> float:
         fb = c.theory(P1, P2)
         got = None if fb is None else getattr(fb, what)
-        return math.nan if got is None else float(got) - value
+        if got is None:
+            return math.nan
+        if seen is not None and math.isfinite(got):
+            seen.append(float(got))
+        return float(got) - value
 
     return f
+
+
+def _beyond(what: str, value: float, seen: Sequence[float]) -> str:
+    """The reachable range in words: about lo to hi, saying so where ``value`` is one of
+    its ends, which the four-bars only approach (a degenerate four-bar reaches it)."""
+    lo, hi = min(seen), max(seen)
+    words = f"those there give about {_show(what, lo)} to {_show(what, hi)}"
+    close = 1e-3 * max(1.0, abs(value))  # the samples come within sqrt(1e-8) of an end
+    if lo - close <= value <= hi + close:  # within the range shown, yet never met
+        words += f"; {_show(what, value)} is an end of that range, approached but not reached"
+    return words
 
 
 def _spread(lengths: tuple[float, float, float]) -> float:
@@ -332,7 +351,8 @@ def _solve_1d(
     fixed: Mapping[str, float],
 ) -> list[tuple[float, float, float]]:
     """The points of the path where ``what`` (swing or time_ratio) equals ``value``."""
-    f = _target(c, what, value)
+    reached: list[float] = []
+    f = _target(c, what, value, reached)
     roots, seen = _roots(lambda v: f(*path.point(v)), _samples(path))
     if not roots:
         where = _where(req, fixed)
@@ -341,11 +361,9 @@ def _solve_1d(
                 f"motion: no {req.motion} {where} has a {what.replace('_', ' ')} "
                 "(change the motion or the fixed lengths)"
             )
-        lo, hi = min(seen) + value, max(seen) + value
         raise MechanismError(
             f"{_field(what)}: no {req.motion} {where} has {what.replace('_', ' ')} "
-            f"{_show(what, value, 6)} (those there give about {_show(what, lo)} to "
-            f"{_show(what, hi)})"
+            f"{_show(what, value, 6)} ({_beyond(what, value, reached)})"
         )
     out = []
     for r in roots:
@@ -440,11 +458,13 @@ def solve_requirement(req: Requirement) -> MSSolution:
                 inner_cache[P1] = min(sols, key=_spread)
         return inner_cache[P1]
 
+    ratios: list[float] = []
+
     def outer(P1: float) -> float:
         s = inner(P1)
         if s is None:
             return math.nan
-        return _target(c, "time_ratio", ratio)(s[0], s[1])
+        return _target(c, "time_ratio", ratio, ratios)(s[0], s[1])
 
     p1_samples = [float(v) for v in np.linspace(0.0, p1_hi, OUTER_SAMPLES + 1)[1:-1]]
     roots, seen = _roots(outer, p1_samples)
@@ -454,11 +474,10 @@ def solve_requirement(req: Requirement) -> MSSolution:
                 f"swing_deg: no {req.motion} on (4.{req.line}) swings "
                 f"{math.degrees(swing):.6g} deg with a time ratio"
             )
-        lo, hi = min(seen) + ratio, max(seen) + ratio
         raise MechanismError(
             f"time_ratio: no {req.motion} on (4.{req.line}) swinging "
-            f"{math.degrees(swing):.6g} deg has time ratio {ratio:.6g} (those give about "
-            f"{lo:.4g} to {hi:.4g})"
+            f"{math.degrees(swing):.6g} deg has time ratio {ratio:.6g} "
+            f"({_beyond('time_ratio', ratio, ratios)})"
         )
     sols = [s for r in roots if (s := inner(r)) is not None]
     return _checked(req, c, sols, "nested root find", ("P1", "P2"), defaults)
@@ -654,6 +673,31 @@ def _parse_requirement(task: Mapping[str, Any], motion: str | None) -> Requireme
     )
 
 
+#: the kinematics' mechanism sizes (docs/contract.md section 4) and how far from its
+#: joints a point may lie, in sizes
+SIZE_RANGE = (1e-50, 1e50)
+POINT_REACH = 1e8
+
+
+def _check_size(
+    frame_length: float, ms: tuple[float, float, float], coupler: tuple[float, float] | None
+) -> None:
+    """The built four-bar within the sizes the kinematics analyses (frame_length 1e300
+    gave NaN joint centres), its coupler point within reach."""
+    size = frame_length * max(1.0, *ms)
+    lo, hi = SIZE_RANGE
+    if not lo <= size <= hi:
+        raise MechanismError(
+            f"frame_length: {frame_length:g} gives a four-bar of size {size:.3g}, outside "
+            f"the sizes analysed ({lo:g} to {hi:g} in the file's unit)"
+        )
+    if coupler is not None and math.hypot(*coupler) > POINT_REACH * size:
+        raise MechanismError(
+            f"coupler_point: {list(coupler)} lies more than {POINT_REACH:g} sizes of the "
+            "four-bar from its coupler"
+        )
+
+
 def _reference_name(ms: tuple[float, float, float]) -> str | None:
     for name, ref in REFERENCE_MATRICES.items():
         if all(abs(a - b) <= TIE for a, b in zip(ms, ref, strict=True)):
@@ -747,10 +791,23 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
     if motion is not None and fb.motion != motion:
         raise MechanismError(f"motion: [{' '.join(f'{p:g}' for p in ms)}] is a {fb.motion}")
 
+    _check_size(frame_length, ms, coupler)
     label = name or (f"fourbar-{ref_name.lower()}" if ref_name else TASK)
     mech = fourbar_mechanism(ms, frame_length, reference_deg, assembly, coupler, label)
     if description is not None:  # the task's own words replace the generated line
         mech = dataclasses.replace(mech, extra={**mech.extra, "description": description})
+    from mjstruct.design.verify import fourbar_ms_verdict
+
+    broken = fourbar_ms_verdict(
+        mech,
+        fb.motion,
+        fb.system4,
+        None if requirement is None else requirement.line,
+        None if requirement is None else requirement.swing,
+        None if requirement is None else requirement.time_ratio,
+    )
+    if broken:
+        raise NumericalError(f"fourbar-ms: the final verdict refused the four-bar ({broken[0]})")
     if clearance is not None:  # kept in the file: `mjstruct singular FILE` reuses it
         entry = {**mech.extra[SYNTHESIS_KEY], "clearance": clearance}
         mech = dataclasses.replace(mech, extra={**mech.extra, SYNTHESIS_KEY: entry})

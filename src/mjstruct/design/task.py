@@ -53,6 +53,15 @@ from mjstruct.typing import FloatArray
 
 #: the task kinds, each with the number of numbers per target
 TASK_KINDS: dict[str, int] = {"path": 2, "function": 2, "motion": 3, "fourbar-ms": 0}
+#: driver values (``timing``, a function's q) and target angles at most this in
+#: magnitude (radians; a slide's values: mechanism sizes): a double there still keeps
+#: 1e-10 of a radian, and the verdict's range of a turn or two is resolved
+DRIVER_LIMIT = 1e6
+#: targets and region boxes lie within this many sizes of the origin (the kinematics'
+#: bound on joint centres and points, docs/contract.md section 4)
+ORIGIN_LIMIT = 1e8
+#: and span at most this (the kinematics' largest mechanism size)
+SIZE_LIMIT = 1e50
 #: four-bar motion types a task may require (``motion``)
 MOTION_TYPES = ("crank-rocker", "double-crank", "double-rocker")
 #: every key a path, function or motion task may hold (others are refused: a misspelt
@@ -200,10 +209,14 @@ def _read_data(path: str | Path) -> tuple[Any, Path, str]:
     if len(raw) > MAX_FILE_BYTES:
         raise MechanismError(f"{source}: larger than {MAX_FILE_BYTES} bytes")
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte-order mark, as some editors write, is no text
     except UnicodeDecodeError:
         raise MechanismError(f"{source}: cannot read (not UTF-8 text)") from None
-    is_toml = not text.lstrip().startswith("{")
+    suffix = Path(source).suffix.lower()
+    if suffix in (".json", ".toml"):  # the name says which (a broken .json is broken JSON)
+        is_toml = suffix == ".toml"
+    else:
+        is_toml = not text.lstrip().startswith(("{", "["))
     try:
         data = tomllib.loads(text) if is_toml else json.loads(text)
     except json.JSONDecodeError as exc:
@@ -546,10 +559,107 @@ def _solver(data: Mapping[str, Any], timed: bool = False) -> dict[str, int | flo
     return out
 
 
+def _size(m: Mechanism) -> float:
+    """The largest distance between two joint centres (0 without geometry)."""
+    at = np.array([complex(*j.at) for j in m.joints if j.at is not None])
+    if len(at) < 2:
+        return 0.0
+    box = np.ptp(at.real) + 1j * np.ptp(at.imag)
+    return float(abs(box))  # within a factor sqrt(2) of the largest distance
+
+
+def _check_magnitudes(task: Task) -> None:
+    """Numbers a double cannot work with as the task means them: driver values and
+    angles beyond :data:`DRIVER_LIMIT`, positions farther than the kinematics' 1e8
+    sizes from the origin (the size: the starting mechanism's or the targets' spread,
+    whichever is larger)."""
+    m = task.mechanism
+    assert m is not None
+    slide = m.joint(m.drivers[0]).kind == "P"
+    start = _size(m)
+    unit = max(start, 1e-300) if slide else 1.0
+    what = "mechanism sizes" if slide else "rad"
+    values: list[tuple[str, float, float]] = []  # (field, value, limit)
+    if task.timing is not None:
+        values += [
+            (f"timing[{i}]", float(v), DRIVER_LIMIT * unit) for i, v in enumerate(task.timing)
+        ]
+    t = task.targets
+    if task.kind == "function":
+        values += [(f"targets[{i}]", float(r[0]), DRIVER_LIMIT * unit) for i, r in enumerate(t)]
+        values += [(f"targets[{i}]", float(r[1]), DRIVER_LIMIT) for i, r in enumerate(t)]
+    if task.kind == "motion":
+        values += [(f"targets[{i}]", float(r[2]), DRIVER_LIMIT) for i, r in enumerate(t)]
+    for where, v, limit in values:
+        if abs(v) > limit:
+            unit_word = "rad" if limit == DRIVER_LIMIT else what
+            raise MechanismError(
+                f"{where}: {v:.6g} is beyond {DRIVER_LIMIT:g} {unit_word} (a driver value or "
+                "angle that large keeps too few digits of a turn)"
+            )
+    if task.kind in ("path", "motion"):
+        xy = t[:, :2]
+        with np.errstate(over="ignore"):
+            spread = float(np.hypot(*np.ptp(xy, axis=0)))
+        scale = max(start, spread)
+        far = np.abs(xy).max(axis=1)
+        k = int(np.argmax(far))
+        if spread > SIZE_LIMIT or far[k] > ORIGIN_LIMIT * max(scale, 1e-300):
+            raise MechanismError(
+                f"targets[{k}]: [{xy[k, 0]:.6g}, {xy[k, 1]:.6g}] is too far out (targets lie "
+                f"within {ORIGIN_LIMIT:g} sizes of the origin and {SIZE_LIMIT:g} of each other)"
+            )
+    for key, ((x0, y0), (x1, y1)) in task.region.items():
+        corner = max(abs(x0), abs(y0), abs(x1), abs(y1))
+        side = max(x1 - x0, y1 - y0)
+        scale = max(start, side)
+        if not math.isfinite(side) or side > SIZE_LIMIT or corner > ORIGIN_LIMIT * scale:
+            raise MechanismError(
+                f"region.{key}: the box is too large or too far out (within "
+                f"{ORIGIN_LIMIT:g} sizes of the origin, sides up to {SIZE_LIMIT:g})"
+            )
+
+
+def _check_distinct_timing(task: Task) -> None:
+    """Two timed targets at one driver value must be one target: a design is in one
+    place at a driver value (a timing near 1e300 put two targets at one q)."""
+    if task.kind == "function":
+        q, field = task.targets[:, 0], "targets"
+    elif task.timing is not None:
+        q, field = task.timing, "timing"
+    else:
+        return
+    first: dict[float, int] = {}
+    for j, v in enumerate(q):
+        i = first.setdefault(float(v), j)
+        if i != j and not np.array_equal(task.targets[i], task.targets[j]):
+            raise MechanismError(
+                f"{field}[{j}]: the driver value of {field}[{i}] with another target "
+                "(no design is in two places at one driver value)"
+            )
+
+
+def _check_free(task: Task) -> None:
+    """Something left to design: a joint, or the point of interest, that is not fixed."""
+    m = task.mechanism
+    assert m is not None
+    free = {j.id for j in m.joints} - set(task.fixed)
+    if task.point is not None and task.point not in task.fixed:
+        free.add(task.point)
+    if not free:
+        raise MechanismError(
+            "fixed: names every joint and the point of interest: no dimension is left "
+            "to synthesise"
+        )
+
+
 def _check_consistent(task: Task) -> None:
     """Requirements that contradict each other or the starting mechanism."""
     m = task.mechanism
     assert m is not None
+    _check_magnitudes(task)
+    _check_distinct_timing(task)
+    _check_free(task)
     centres = {j.id: j.at for j in m.joints} | {p.id: p.at for p in m.points}
     for jid in task.fixed:
         box = task.region.get(jid)

@@ -52,11 +52,12 @@ from mjstruct.design.constraints import (
     link_pairs,
 )
 from mjstruct.design.matching import match_indices, ordered_match
+from mjstruct.design.memory import assess_in_chunks, chunk_rows
 from mjstruct.design.population import DesignSpace, Population
 from mjstruct.design.result import SYNTHESIS_KEY
 from mjstruct.design.search import PENALTY, Assessment, FitProblem, Outcome
 from mjstruct.design.task import Task
-from mjstruct.design.verify import check_motion
+from mjstruct.design.verify import check_motion, final_verdict
 from mjstruct.io import mechanism_from_dict, mechanism_to_dict
 from mjstruct.kinematics.evaluate import Evaluation
 from mjstruct.kinematics.model import KinematicModel
@@ -239,7 +240,10 @@ class TrackProblem(FitProblem):
 
     # -- global stage ---------------------------------------------------------------------
     def assess(self, X: FloatArray) -> Assessment:
-        X = np.atleast_2d(X)
+        # a bounded number of frames at a time: bounded memory, prompt interrupts
+        return assess_in_chunks(self._assess, np.atleast_2d(X), chunk_rows(self))
+
+    def _assess(self, X: FloatArray) -> Assessment:
         Xg = X[:, : self.ng]
         qoff, aoff = self._offsets(X)
         qt = self._timing(qoff)
@@ -419,7 +423,7 @@ class TrackProblem(FitProblem):
         ids = (self.point,) if self.point is not None else ()
         links = (self.link,) if self.link is not None else ()
         frames = max(360, 4 * self.samples)
-        check = check_motion(m, q, self.task.full_turn, frames, ids, links)
+        check = check_motion(m, q, self.task.full_turn, frames, ids, links, ordered=not self.timed)
         sq = np.zeros(len(q))
         if self.point is not None:
             assert self.positions is not None
@@ -465,6 +469,9 @@ class TrackProblem(FitProblem):
         offset = float(aoff[0]) if self.angle_offset else None
         out = with_synthesis(m, t, [float(v) for v in check.q], offset)
         errs = tuple(float(e) for e in errors)
+        if feasible:  # the contract's promises, re-checked from the design's own geometry
+            broken = final_verdict(t, out, check.q, errs, float(aoff[0]), frames)
+            feasible, reason = not broken, reason or "; ".join(broken)
         return Outcome(out, rms, feasible, errs, margins, details, reason)
 
 

@@ -96,7 +96,7 @@ def read_as(path: str | Path, fmt: str | None = None, pin_slot: str = "refuse") 
     p = Path(path)
     chosen = format_for(p, fmt)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is no text
     except FileNotFoundError:
         raise MechanismError(f"{p}: no such file") from None
     except (OSError, UnicodeDecodeError) as exc:

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -64,9 +65,50 @@ def check_dxf(name: str = "path") -> None:
         )
 
 
+#: characters DXF forbids in table names, and control characters (NUL, ESC, BEL, ...)
+_FORBIDDEN = re.compile(r'[<>/\\":;?*|=`,\s\x00-\x1f\x7f-\x9f]')
+#: the longest layer name DXF readers accept
+MAX_NAME = 255
+#: layers every drawing has (compared without case, as DXF compares table names)
+_RESERVED = ("0", "defpoints", "frame", "labels", "pitch-circles")
+
+
 def layer_name(link: str) -> str:
-    """The DXF layer of a link: ``link-ID``, characters DXF forbids in names as ``_``."""
-    return "link-" + re.sub(r'[<>/\\":;?*|=`,\s]', "_", link)
+    """The DXF layer of a link: ``link-ID``, characters DXF forbids in names (and control
+    characters) as ``_``, at most :data:`MAX_NAME` characters less room for a suffix
+    that tells apart links whose names would coincide (:func:`layer_names`)."""
+    return ("link-" + _FORBIDDEN.sub("_", link))[: MAX_NAME - 8]
+
+
+def layer_names(links: Sequence[str]) -> dict[str, str]:
+    """Each link's layer: :func:`layer_name`, made unique without case (``Arm`` and
+    ``arm``, ``a<b`` and ``a>b`` are two links but would be one DXF layer) by a
+    suffix ``~2``, ``~3``, ...
+
+    >>> layer_names(["Arm", "arm", "a<b", "a>b"])
+    {'Arm': 'link-Arm', 'arm': 'link-arm~2', 'a<b': 'link-a_b', 'a>b': 'link-a_b~2'}
+    """
+    taken = set(_RESERVED)
+    out: dict[str, str] = {}
+    for link in links:
+        base = name = layer_name(link)
+        k = 1
+        while name.lower() in taken:
+            k += 1
+            name = f"{base}~{k}"
+        taken.add(name.lower())
+        out[link] = name
+    return out
+
+
+def dxf_text(text: str) -> str:
+    """An id as DXF TEXT: control characters (NUL, ESC, BEL, newlines, ...) written as
+    ``\\xNN`` so that a reader sees them and no reader chokes on them.
+
+    >>> print(dxf_text("A" + chr(0) + "B" + chr(27)))
+    A\\x00B\\x1b
+    """
+    return re.sub(r"[\x00-\x1f\x7f-\x9f]", lambda c: f"\\x{ord(c.group()):02x}", text)
 
 
 def write_dxf(scene: Scene, path: str, name: str = "path") -> None:
@@ -97,13 +139,17 @@ def write_dxf(scene: Scene, path: str, name: str = "path") -> None:
     half = BAR * hole
     doc.layers.add("frame", color=8)
     doc.layers.add("labels", color=7)
-    for n, link in enumerate(x for x in m.links if x != model.frame):
-        layer = layer_name(link)
+    layers = layer_names([x for x in m.links if x != model.frame])
+    for n, (link, layer) in enumerate(layers.items()):
         doc.layers.add(layer, color=1 + n % 6)
         keys = link_outline(scene, link)
         pts = np.array([at[key] for key in keys], complex)
         if len(pts) >= 2:
             _outline(msp, pts, half, layer)
+        if layer != "link-" + link:  # the id the layer's name could not keep, as TEXT
+            text = msp.add_text(dxf_text(f"link {link}"), height=1.5 * hole,
+                                dxfattribs={"layer": layer})  # fmt: skip
+            text.set_placement((pts[0].real - 1.5 * hole, pts[0].imag - 3.0 * hole))
         for jid in m.link_joints[link]:
             j = m.joint(jid)
             if j.kind == "R":
@@ -117,15 +163,15 @@ def write_dxf(scene: Scene, path: str, name: str = "path") -> None:
         if j.kind == "P":
             carrier, block = guide_sides(model, j.id)
             a, b = at[f"{j.id}/guide0"], at[f"{j.id}/guide1"]
-            _line(msp, a, b, "frame" if carrier == model.frame else layer_name(carrier))
-            _block(msp, at[f"{j.id}/block"], (b - a) / abs(b - a), hole, layer_name(block))
+            _line(msp, a, b, "frame" if carrier == model.frame else layers[carrier])
+            _block(msp, at[f"{j.id}/block"], (b - a) / abs(b - a), hole, layers[block])
         if not (j.kind == "P" and duplicate_joint(model, j.id)):
             z = at[j.id] if j.kind == "R" else at[f"{j.id}/block"]
-            label = msp.add_text(j.id, height=1.5 * hole, dxfattribs={"layer": "labels"})
+            label = msp.add_text(dxf_text(j.id), height=1.5 * hole, dxfattribs={"layer": "labels"})
             label.set_placement((z.real + 1.5 * hole, z.imag + 1.5 * hole))
     for pid, (link, _) in model.geometry.points.items():
         z = at[pid]
-        msp.add_point((z.real, z.imag), dxfattribs={"layer": layer_name(link)})
+        msp.add_point((z.real, z.imag), dxfattribs={"layer": layers.get(link, "frame")})
     gears = drawn_gears(model)
     if gears:  # pitch circles, one layer for all (the gears' links keep their outlines)
         doc.layers.add("pitch-circles", color=3)

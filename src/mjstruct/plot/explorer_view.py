@@ -105,7 +105,8 @@ class ExplorerView:
     ------
     MechanismError
         the mechanism cannot be drawn (no geometry, drivers that do not determine
-        it), an unknown joint, ``frames`` below 4.
+        it), an unknown joint, ``frames`` below 4 or more than fit the memory limit
+        (:func:`~mjstruct.kinematics.memory.check_sweep_memory`).
     """
 
     def __init__(
@@ -143,6 +144,9 @@ class ExplorerView:
         self.notes: tuple[str, ...] = ()
         self.mechanism = mechanism
         self.model = KinematicModel.build(mechanism)
+        from mjstruct.kinematics.memory import check_sweep_memory
+
+        check_sweep_memory(self.model, frames, checks=False)  # before the sweep is made
         #: joint -> the joints that move with it (itself, a slider's block at its centre)
         self.moves_with = {j: _drawn_with(mechanism, j, self.model.scale) for j in self.joints}
         self.scene = self._scene(self.model)
@@ -190,8 +194,20 @@ class ExplorerView:
         return int(min(self.frames - 1, max(0, round((value - q0) / step))))
 
     def set_driver(self, value: float) -> None:
-        """Show the frame nearest to the driver value ``value`` (as shown: degrees)."""
-        self.value = float(value)
+        """Show the frame nearest to the driver value ``value`` (as shown: degrees).
+
+        Raises
+        ------
+        MechanismError
+            ``value`` is not a finite number.
+        """
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise MechanismError(f"value: expected a number, got {value!r}") from None
+        if not math.isfinite(number):
+            raise MechanismError(f"value: the driver value must be finite, got {number}")
+        self.value = number
         self.k = self.frame_of(self.value)
 
     @property

@@ -24,7 +24,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Container, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -384,6 +384,18 @@ def vector_sites(
 
 def as_complex(a: Any) -> ComplexArray:
     return np.asarray(a, dtype=np.complex128)
+
+
+def anchor_joint(key: str, joints: Container[str]) -> str:
+    """The joint an anchor key (:func:`anchor_arrays`) belongs to: the key itself for a
+    joint's centre, else the joint of a slider's block, origin or guide end
+    (``"J/block"``).  Joint ids may hold ``/`` themselves (``"A/B"``): only a key that
+    is not a joint's loses its last part.
+
+    >>> anchor_joint("A/B", {"A/B"}), anchor_joint("A/B/block", {"A/B"})
+    ('A/B', 'A/B')
+    """
+    return key if key in joints else key.rsplit("/", 1)[0]
 
 
 def anchor_positions(scene: Scene, k: int) -> dict[str, complex]:

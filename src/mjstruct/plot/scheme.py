@@ -24,7 +24,14 @@ import numpy as np
 
 from mjstruct.plot.gear_artists import gear_artists
 from mjstruct.plot.placement import clearance, free_direction
-from mjstruct.plot.scene import Scene, anchor_arrays, duplicate_joint, guide_sides, vector_sites
+from mjstruct.plot.scene import (
+    Scene,
+    anchor_arrays,
+    anchor_joint,
+    duplicate_joint,
+    guide_sides,
+    vector_sites,
+)
 from mjstruct.plot.style import DRIVER_COLOUR, FRAME_COLOUR, GROUP_COLOURS, LINK_COLOUR
 from mjstruct.typing import ComplexArray
 
@@ -108,7 +115,10 @@ def outline_reference(scene: Scene, keys: list[str]) -> ComplexArray:
     """Where the outline's points are in the file's geometry (the reference)."""
     geom = scene.model.geometry
     return np.array(
-        [geom.points[k][1] if k in geom.points else geom.centres[k.split("/")[0]] for k in keys],
+        [
+            geom.points[k][1] if k in geom.points else geom.centres[anchor_joint(k, geom.centres)]
+            for k in keys
+        ],
         np.complex128,
     )
 
@@ -611,8 +621,9 @@ class SchemeArtists:
                 # a slider block: beside it, clear of its guide and its joint's label
                 z = complex(pts[0])
                 key = keys[0]
-                taken = self._taken.get(key, []) + self._taken.get(key.split("/")[0], [])
-                blocks = self._blocks_at(key.split("/")[0])
+                joint = anchor_joint(key, self.scene.model.geometry.centres)
+                taken = self._taken.get(key, []) + self._taken.get(joint, [])
+                blocks = self._blocks_at(joint)
                 guides = [self._direction(p, k) for p in blocks]
                 u = free_direction(np.array(taken + guides + [-g for g in guides], complex))
                 c = z + 3.3 * pin * u

@@ -147,7 +147,32 @@ def synthesis_targets(mechanism: Mechanism) -> SynthesisTargets | None:
     data = mechanism.extra.get(SYNTHESIS_KEY)
     if data is None or (isinstance(data, Mapping) and "targets" not in data):
         return None
-    return read_targets(data)
+    targets = read_targets(data)
+    _check_reach(targets, mechanism)
+    return targets
+
+
+def _check_reach(targets: SynthesisTargets, mechanism: Mechanism) -> None:
+    """Refuse targets a task could not have (:func:`mjstruct.design.task` limits: within
+    1e8 sizes of the origin, spread at most 1e50): a drawing would show the mechanism
+    as a dot with the target pressed into a corner (a target at 1e300)."""
+    from mjstruct.design.task import ORIGIN_LIMIT, SIZE_LIMIT
+
+    pts = targets.points
+    if not len(pts):
+        return
+    at = [complex(*j.at) for j in mechanism.joints if j.at is not None]
+    size = max((abs(a - b) for a in at for b in at[:8]), default=0.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        spread = float(np.hypot(np.ptp(pts.real), np.ptp(pts.imag)))
+    far = np.maximum(np.abs(pts.real), np.abs(pts.imag))
+    k = int(np.argmax(far))
+    if not spread <= SIZE_LIMIT or far[k] > ORIGIN_LIMIT * max(size, spread, 1e-300):
+        raise MechanismError(
+            f"synthesis.targets: target {k + 1} at [{pts[k].real:.6g}, {pts[k].imag:.6g}] "
+            f"lies too far out to draw with the mechanism (a task keeps its targets within "
+            f"{ORIGIN_LIMIT:g} sizes of the origin and {SIZE_LIMIT:g} of each other)"
+        )
 
 
 def draw_targets(ax: Axes, targets: SynthesisTargets, size: float) -> None:
