@@ -1,6 +1,7 @@
-"""Regenerate every image of docs/drawings.md (and the README picture, and the two
-pictures of docs/singular.md) from the shipped examples: ``python docs/make_images.py``
-(about half a minute).
+"""Regenerate every image of docs/drawings.md (and the README pictures, the two
+pictures of docs/singular.md and the targets charts of the shipped synthesis tasks in
+docs/synthesis-design.md) from the shipped examples: ``python docs/make_images.py``
+(about a minute).
 
 Each image is made through the same functions the ``draw``, ``animate``, ``plot`` and
 ``atlas --draw`` commands call, so the pictures are what a user gets.
@@ -76,6 +77,21 @@ def explorer() -> None:
     )
 
 
+def synthesis() -> None:
+    """The targets charts of the shipped tasks (README, docs/synthesis-design.md): each
+    synthesised (seed 0) and drawn as ``synthesize --targets-chart`` draws it."""
+    from mjstruct.design.api import load_task, synthesize
+    from mjstruct.plot.design_charts import draw_targets
+
+    tasks = Path(__file__).resolve().parent.parent / "catalogs" / "tasks"
+    for name in ("path-curve18", "function-log10", "motion-five-poses"):
+        result = synthesize(load_task(str(tasks / f"{name}.json")))
+        fig = draw_targets(result.mechanism)
+        out = IMG / f"synthesis-{name.removeprefix('path-')}.png"
+        write_atomically(str(out), lambda tmp, fig=fig: fig.savefig(tmp, dpi=90))
+        plt.close(fig)
+
+
 def main() -> int:
     start = time.perf_counter()
     # the README picture: radial engine, Assur groups and velocity vectors
@@ -102,6 +118,7 @@ def main() -> int:
     write_atlas_sheet(chains[12:30], str(IMG / "atlas-sheet.png"), title="F = 1, n = 8 (part)")
     singular()
     explorer()
+    synthesis()
     sys.stdout.write(f"images written to {IMG} in {time.perf_counter() - start:.1f} s\n")
     return 0
 

@@ -7,8 +7,18 @@ from typing import Any
 
 import pytest
 
+from browser_report import browser_line
 from mjstruct.kinematics import closure_continuation, closure_newton
 from project_paths import EXAMPLES
+
+
+def pytest_terminal_summary(terminalreporter: Any) -> None:
+    """Say whether the HTML animation's browser test ran (it skips without Chromium)."""
+    stats = terminalreporter.stats
+    line = browser_line(r for key in ("passed", "failed", "skipped", "error")
+                        for r in stats.get(key, ()))  # fmt: skip
+    if line is not None:
+        terminalreporter.write_line(line)
 
 
 @pytest.fixture

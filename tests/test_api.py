@@ -96,6 +96,7 @@ PUBLIC = [
     "explore",
     "planetary_synthesis",
     "planetary_ratio_range",
+    "egt_atlas",
 ]
 
 CLI = [

@@ -82,6 +82,33 @@ def readme_commands() -> list[Command]:
     return [_command(line) for line in body if line.startswith("mjstruct ")]
 
 
+def _use_block() -> list[str]:
+    text = README.read_text(encoding="utf-8")
+    use = text.split("\n## Use\n", 1)[1].split("\n## ", 1)[0]
+    return next(_fences(use))[1]
+
+
+def readme_folders() -> list[str]:
+    """The folders README's Use block makes (``mkdir -p DIR`` lines)."""
+    words = [shlex.split(line, comments=True) for line in _use_block()]
+    return [w[2] for w in words if w[:2] == ["mkdir", "-p"] and len(w) == 3]
+
+
+#: the options that name a file a command writes
+OUTPUT_FLAGS = ("-o", "--output", "--csv", "--targets-chart", "--history", "--draw")
+
+
+def test_readme_commands_write_under_one_folder_they_make() -> None:
+    # a new user pasting the Use block found seven files in the repository's root:
+    # every file a command writes goes under a folder the block makes first
+    folders = readme_folders()
+    assert folders
+    for cmd in readme_commands():
+        for flag, value in zip(cmd.argv, cmd.argv[1:], strict=False):
+            if flag in OUTPUT_FLAGS:
+                assert any(value.startswith(f"{d}/") for d in folders), cmd.line
+
+
 def guide_commands() -> list[Command]:
     """Every ``$ ...`` line of the guide's code blocks, with the lines shown below it."""
     out: list[Command] = []
@@ -109,6 +136,8 @@ def workdir(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     """A fresh directory where ``catalogs/`` is the repository's."""
     path = tmp_path_factory.mktemp("docs-commands")
     (path / "catalogs").symlink_to(ROOT / "catalogs", target_is_directory=True)
+    for folder in readme_folders():  # README's `mkdir -p DIR` lines, as pasted
+        (path / folder).mkdir(parents=True, exist_ok=True)
     old = Path.cwd()
     os.chdir(path)
     try:

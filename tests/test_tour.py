@@ -1,6 +1,7 @@
 """docs/tour.ipynb is stored executed (so the docs site and any notebook viewer show its
-pictures) and up to date: run again, it prints the same text and shows a picture
-wherever the stored copy does, and it shows what it says it shows.
+pictures) and up to date: run again, it prints the same text and shows the same
+pictures (the same size within 2 %, and alike block by block: see
+:func:`pictures_differ`), and it shows what it says it shows.
 
 After changing the tour or what it prints, store it again with
 ``python tests/test_tour.py`` (runs it top to bottom and writes the outputs in place).
@@ -8,7 +9,9 @@ After changing the tour or what it prints, store it again with
 
 from __future__ import annotations
 
+import base64
 import copy
+import io
 import sys
 from pathlib import Path
 from typing import Any
@@ -71,6 +74,67 @@ def substance(nb: Any) -> list[list[str]]:
     return out
 
 
+#: pictures are compared in blocks of this many pixels a side (their mean grey)
+BLOCK = 8
+#: a block differs when its mean grey differs by more than this (of 255) ...
+BLOCK_GREY = 16.0
+#: ... and two pictures differ when more than this fraction of their blocks do
+BLOCKS_DIFFERING = 0.005
+
+
+def pictures(nb: Any) -> list[bytes]:
+    """The PNG pictures a notebook shows, in order."""
+    return [
+        base64.b64decode(o.data["image/png"])
+        for cell in nb.cells
+        if cell.cell_type == "code"
+        for o in cell.outputs
+        if "image/png" in o.get("data", {})
+    ]
+
+
+def pictures_differ(stored: bytes, fresh: bytes) -> str | None:
+    """Why two PNGs are not the same picture, or None: a size more than 2 % apart, or
+    more than 0.5 % of their 8-pixel blocks with a mean grey more than 16 levels apart
+    (anti-aliasing and the fonts of another library version move single pixels; a
+    legend moved, an axis in other units or a drawing laid out anew move blocks)."""
+    import numpy as np
+    from PIL import Image
+
+    a, b = (Image.open(io.BytesIO(x)).convert("L") for x in (stored, fresh))
+    if any(abs(p - q) > 0.02 * p for p, q in zip(a.size, b.size, strict=True)):
+        return f"size {a.size} stored, {b.size} now"
+    b = b.resize(a.size)
+    w, h = (n // BLOCK * BLOCK for n in a.size)
+
+    def blocks(image: Any) -> Any:
+        g = np.asarray(image, float)[:h, :w]
+        return g.reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean(axis=(1, 3))
+
+    share = float((np.abs(blocks(a) - blocks(b)) > BLOCK_GREY).mean())
+    return f"{share:.1%} of the blocks differ" if share > BLOCKS_DIFFERING else None
+
+
+def test_pictures_differ_sees_a_moved_legend_and_not_a_shifted_pixel() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    def png(legend: str, dx: float = 0.0) -> bytes:
+        fig, ax = plt.subplots(figsize=(5, 3))
+        ax.plot([0, 1, 2], [0, 1 + dx, 0], label="curve")
+        ax.legend(loc=legend)
+        out = io.BytesIO()
+        fig.savefig(out, format="png", dpi=80)
+        plt.close(fig)
+        return out.getvalue()
+
+    assert pictures_differ(png("upper left"), png("upper left")) is None
+    assert pictures_differ(png("upper left"), png("upper left", 1e-3)) is None
+    assert pictures_differ(png("upper left"), png("lower right")) is not None
+
+
 def test_tour_is_stored_executed_and_up_to_date(tmp_path: Path) -> None:
     stored = nbformat.read(TOUR, as_version=4)
     code = [c for c in stored.cells if c.cell_type == "code"]
@@ -79,6 +143,9 @@ def test_tour_is_stored_executed_and_up_to_date(tmp_path: Path) -> None:
     assert sum(x == "<picture>" for cell in kept for x in cell) == PICTURES
     fresh = execute(stored, tmp_path)
     assert substance(fresh) == kept, "the stored tour is out of date: python tests/test_tour.py"
+    for k, (a, b) in enumerate(zip(pictures(stored), pictures(fresh), strict=True), 1):
+        why = pictures_differ(a, b)
+        assert why is None, f"picture {k} of the tour is stale ({why}): python tests/test_tour.py"
     assert list(tmp_path.iterdir()) == []  # the tour writes no files
     text = "\n".join(x for cell in kept for x in cell)
     assert "stderr" not in text  # no warning printed

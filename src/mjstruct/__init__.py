@@ -121,6 +121,7 @@ _EXPORTS: dict[str, str] = {
     "DesignResult": "mjstruct.design.result",
     "planetary_synthesis": "mjstruct.gears.planetary",
     "planetary_ratio_range": "mjstruct.gears.planetary",
+    "egt_atlas": "mjstruct.gears.atlas",
 }
 
 # a literal list so that type checkers read it; tests/test_api.py keeps it equal to _EXPORTS
@@ -159,6 +160,7 @@ __all__ = [
     "draw_scene",
     "driver_choices",
     "dynamic_analysis",
+    "egt_atlas",
     "explore",
     "familiar_name",
     "fourbar_theory",
@@ -239,6 +241,7 @@ if TYPE_CHECKING:  # what a type checker sees; tests/test_api.py keeps it equal 
         mechanism_from_pyslvs,
         mechanism_to_pyslvs,
     )
+    from mjstruct.gears.atlas import egt_atlas
     from mjstruct.gears.planetary import (
         planetary_ratio_range,
         planetary_synthesis,

@@ -47,6 +47,8 @@ def test_csv_table(tmp_path, capsys):
     assert main(["kinematics", f, "--frames", "12", "--csv", str(out)]) == 0
     text = capsys.readouterr().out
     assert "plan" in text and "check Jacobian" in text
+    # issue 38.8: it says what it wrote where, as draw, plot and animate do
+    assert text.splitlines()[-1] == f"wrote {out} (the table: 12 frames, one row each)"
     with out.open() as fh:
         rows = list(csv.reader(fh))
     assert rows[0][:4] == ["q", "O1.x", "O1.y", "O1.vx"]

@@ -7,6 +7,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import json
+import math
 import os
 
 import matplotlib.pyplot as plt
@@ -70,6 +72,7 @@ def test_draw_writes_each_format(tmp_path, capsys):
         (["--show", "speed"], "--show: unknown layer 'speed'"),
         (["--q", "1,2"], "--q: expected 1 finite value(s)"),
         (["--q", "x"], "--q: expected numbers"),
+        (["--q", "12grad"], "--q: expected numbers Q1,Q2 (angles may end in deg or rad)"),
         (["--paths", "Z"], "--paths: 'Z' is neither"),
         (["--drivers", "Q"], "--drivers: 'Q' is not a joint id"),
     ],
@@ -563,3 +566,31 @@ def test_each_command_says_in_one_line_what_it_wrote_where(tmp_path, capsys):
     printed = capsys.readouterr()
     assert printed.out.count("\n") == 1 and printed.out.startswith(f"wrote {out} (12 frames")
     assert "frames do not assemble" in printed.out and "warning:" in printed.err
+
+
+def test_q_takes_its_unit_and_says_how_a_bare_number_is_read(tmp_path, capsys):
+    # issue 38.2: --q 45 meant 45 radians, silently; a suffix states the unit, a bare
+    # number stays radians (the documented behaviour) and, beyond a turn, is warned about
+    out = str(tmp_path / "d.svg")
+
+    def drawn(q: str) -> tuple[list[float], list[str], str]:
+        assert main(["draw", ex("four-bar"), "--q", q, "--json", "-o", out]) == 0
+        d = json.loads(capsys.readouterr().out)
+        assert main(["draw", ex("four-bar"), "--q", q, "-o", out]) == 0
+        return d["q"], d["warnings"], capsys.readouterr().out
+
+    q, warnings, line = drawn("90deg")
+    assert q == pytest.approx([math.pi / 2]) and not warnings and "at q = 90.0°" in line
+    assert drawn("90°")[0] == pytest.approx([math.pi / 2])
+    assert drawn("0.8rad")[0] == drawn("0.8")[0] == pytest.approx([0.8])
+    q, warnings, line = drawn("45")
+    assert q == [45.0] and "at q = 58.3°" in line
+    assert len(warnings) == 1 and "taken as radians" in warnings[0] and "45deg" in warnings[0]
+    # a slide takes lengths only
+    argv = ["draw", ex("scotch-yoke"), "--drivers", "G", "--q", "0.1deg", "-o", out]
+    assert main(argv) == 2
+    assert "--q: driver G is a slide, in the file's length unit" in capsys.readouterr().err
+    # the help says the unit
+    with pytest.raises(SystemExit):
+        main(["draw", "--help"])
+    assert "45deg" in capsys.readouterr().out

@@ -130,6 +130,9 @@ def test_shipped_four_bar_tasks_from_the_command(tmp_path, capsys, name):
     assert r["feasible"] and r["task"] == task["task"] and r["output"] == str(out)
     d = mechanism_to_dict(read_mechanism(out))
     timing = d["synthesis"]["timing"]
+    assert d["synthesis"]["timed"] is (task["task"] == "function" or "timing" in task)
+    if task["task"] == "function":  # the chart needs the offset the search found
+        assert d["synthesis"]["angle_offset"] == r["details"]["angle_offset"]
     assert len(timing) == len(task["targets"]) == len(r["errors"])
     start = [complex(*j["at"]) for j in mechanism_to_dict(_example()[0])["joints"]]
     size = max(abs(a - b) for a, b in itertools.combinations(start, 2))

@@ -48,7 +48,7 @@ def test_timed_targets_met_exactly_and_the_oracle_agrees():
         assert abs(abs(z - complex(*t)) - e) < 1e-9
     entry = d[SYNTHESIS_KEY]
     assert entry["point"] == "M" and entry["targets"] == targets
-    assert np.allclose(entry["timing"], q)
+    assert np.allclose(entry["timing"], q) and entry["timed"] is True
     assert r.history and r.evaluations > 0 and r.margins["assembly"] >= 0
 
 
@@ -73,6 +73,7 @@ def test_untimed_targets_are_matched_in_order_along_one_turn():
     assert r.feasible and r.max_error < 1e-8
     d = mechanism_to_dict(r.mechanism)
     timing = np.array(d[SYNTHESIS_KEY]["timing"])
+    assert d[SYNTHESIS_KEY]["timed"] is False  # the driver values as met, not prescribed
     # met in their order along the cycle: the steps between consecutive targets,
     # taken forward modulo a turn, add up to less than one turn
     steps = np.mod(np.diff(timing), 2 * math.pi)

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -220,3 +221,62 @@ def test_timed_targets_default_to_fewer_generations() -> None:
     assert function.solver["generations"] == TIMED_GENERATIONS
     assert given.solver["generations"] == 150
     assert timed.solver["population"] == SOLVER_DEFAULTS["population"]
+
+
+def test_text_report_numbers_targets_from_one_with_q_in_degrees():
+    # issue 38.6: the text numbered targets from 0 (the charts from 1) and gave q in
+    # radians without a unit, continued so that untimed targets looked unordered
+    from mjstruct.cli.synthesize import render
+
+    timing = [5.9, 6.1, 0.2 + 2 * math.pi, 0.6]  # met in this order, through 360°
+    d = {"task": "path", "objective": 0.01, "feasible": True, "errors": [0.01] * 4,
+         "evaluations": 10, "seconds": 0.1, "seed": 0, "margins": {},
+         "details": {"timing": timing}, "timed": False}  # fmt: skip
+    lines = render(d, "out.json").splitlines()
+    head = next(i for i, line in enumerate(lines) if line.strip().startswith("target"))
+    assert "q (deg, 0-360; untimed: met in this order)" in lines[head]
+    rows = [line.split() for line in lines[head + 1 : head + 5]]
+    assert [r[0] for r in rows] == ["1", "2", "3", "4"]
+    assert [float(r[2]) for r in rows] == pytest.approx(
+        [math.degrees(t) % 360 for t in timing], abs=1e-4
+    )
+    d["timed"] = True
+    assert "q (deg, 0-360; prescribed)" in render(d, "out.json")
+
+
+def test_fourbar_ms_text_report_gives_the_design_and_keeps_the_clearance(tmp_path, capsys):
+    # issue 38.6: the text printed only the objective; the clearance was not in the file
+    task = tmp_path / "ms.json"
+    task.write_text(json.dumps({"task": "fourbar-ms", "change_point": "4.2",
+                                "swing_deg": 140, "clearance": 0.01,
+                                "coupler_point": [0.5, 0.3]}))  # fmt: skip
+    out = tmp_path / "ms.json.out.json"
+    assert main(["synthesize", str(task), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    for words in ("MS = [0.5 0.961902 1.4619]", "crank-rocker, Grashof",
+                  "change point: 1 + P2 = P1 + P3", "swing 140.0000 deg", "time ratio 4.1429",
+                  "zone: links 1 and 2 in line", "clearance D = 0.01",
+                  "u = 0.5 along A -> B, v = 0.3 to its left, from A",
+                  "(lengths in the file's unit)"):  # fmt: skip
+        assert words in text, words
+    assert read_mechanism(out).extra["synthesis"]["clearance"] == 0.01
+    # singular reuses it; --clearance overrides it
+    assert main(["singular", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "zone:" in text and "clearance D = 0.01 from the file" in text
+    assert main(["singular", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["clearance"] == 0.01
+    assert main(["singular", str(out), "--clearance", "0.02", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["clearance"] == 0.02
+
+
+def test_singular_text_gives_output_angles_from_0_to_360(capsys):
+    # issue 38.8: the output column was signed (-70.53) while the charts use 0-360°
+    assert main(["singular", str(EXAMPLES / "fourbar-ms4.json")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    head = next(i for i, line in enumerate(lines) if "output (deg)" in line)
+    rows = [line.split() for line in lines[head + 1 :] if line.split()[0].endswith(
+        ("_extreme", "_limit", "_point"))]  # fmt: skip
+    outputs = [float(r[2]) for r in rows]
+    assert outputs and all(0.0 <= v < 360.0 for v in outputs)
+    assert any(abs(v - (360.0 - 70.5288)) < 1e-3 for v in outputs)

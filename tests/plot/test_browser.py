@@ -7,7 +7,8 @@ Chromium is driven through the DevTools protocol over a pipe (``--remote-debuggi
 JSON messages separated by NUL bytes on file descriptors 3 and 4), so no port is
 opened and nothing beyond the standard library is needed.  Where Chromium is not
 installed the test is skipped, saying so (Debian: ``apt-get install chromium``; CI's
-``.ci/run`` installs it when it can).
+``.ci/run`` installs it when it can and then requires the test to run, by
+``MJSTRUCT_BROWSER_TEST=required``), and the run's last lines say whether it ran.
 """
 
 from __future__ import annotations
@@ -158,6 +159,8 @@ STATE = (
 
 def test_the_html_animation_plays_in_chromium(tmp_path, capsys):
     executable = browser()
+    if executable is None and os.environ.get("MJSTRUCT_BROWSER_TEST") == "required":
+        pytest.fail("MJSTRUCT_BROWSER_TEST=required, but no Chromium is on PATH")
     if executable is None:
         pytest.skip(
             "headless Chromium is not installed (Debian: apt-get install chromium); "
@@ -220,3 +223,21 @@ def test_the_html_animation_plays_in_chromium(tmp_path, capsys):
     assert changed.sum() > 200, changed.sum()
     # and what is shown is a drawing (dark bars on white), not a blank or broken image
     assert (a.sum(axis=-1) < 300).sum() > 500
+
+
+def test_the_run_says_whether_the_browser_test_ran():
+    # a skip among the suite's passes went unnoticed: the summary names its fate
+    from types import SimpleNamespace
+
+    from browser_report import browser_line
+
+    node = "tests/plot/test_browser.py::test_the_html_animation_plays_in_chromium"
+    other = SimpleNamespace(nodeid="tests/test_api.py::test_x", outcome="passed")
+    assert browser_line([other]) is None
+    passed = SimpleNamespace(nodeid=node, outcome="passed", longrepr=None)
+    assert browser_line([other, passed]) == "browser test (headless Chromium): ran and passed"
+    why = "headless Chromium is not installed (Debian: apt-get install chromium)"
+    skipped = SimpleNamespace(nodeid=node, outcome="skipped", longrepr=("f", 1, f"Skipped: {why}"))
+    assert browser_line([skipped]) == f"browser test (headless Chromium): did not run, {why}"
+    failed = SimpleNamespace(nodeid=node, outcome="failed", longrepr="boom")
+    assert browser_line([passed, failed]) == "browser test (headless Chromium): FAILED"

@@ -51,8 +51,12 @@ def _hull(z: list[complex]) -> list[complex]:
             return hull
 
 
-@pytest.mark.parametrize("name", ["zhivago", "kin-radial-engine-5", "slider-crank"])
+@pytest.mark.parametrize(
+    "name", ["zhivago", "kin-radial-engine-5", "slider-crank", "four-bar", "six-bar-mj-slider"]
+)
 def test_holes_sit_at_the_kinematics_centres_and_outlines_around_them(tmp_path, name, capsys):
+    # four-bar and six-bar-mj-slider: a coupler point off the bar (issue 38.5: it was a
+    # POINT outside the link's outline) makes the link a plate through it
     m = read_mechanism(example_path(name))
     r = kinematic_analysis(m, frames=8, checks=False)  # the oracle: another entry point
     k = 3
@@ -66,6 +70,7 @@ def test_holes_sit_at_the_kinematics_centres_and_outlines_around_them(tmp_path, 
     hole, half = PIN * scale, BAR * PIN * scale
     tol = 1e-9 * scale
     centre = {j: complex(r.joints[j]["x"][k], r.joints[j]["y"][k]) for j in r.joints}
+    spot = {p: complex(r.points[p]["x"][k], r.points[p]["y"][k]) for p in r.points}
     layers = {layer.dxf.name for layer in doc.layers}
     moving = [x for x in m.links if x != m.frame]
     assert {layer_name(x) for x in moving} | {"frame", "labels"} <= layers
@@ -85,6 +90,8 @@ def test_holes_sit_at_the_kinematics_centres_and_outlines_around_them(tmp_path, 
         joints = [centre[j] for j in m.link_joints[link] if m.joint(j).kind == "R"]
         if outline is None or len(joints) < 2:
             continue  # a slider block: its rectangle is checked by the drawing tests
+        # the outline is round the link's joints and the points it carries
+        joints += [spot[p.id] for p in m.points if p.link == link]
         assert outline.closed
         points = outline.get_points("xyb")
         arcs = 0
@@ -105,6 +112,15 @@ def test_holes_sit_at_the_kinematics_centres_and_outlines_around_them(tmp_path, 
         d = np.min([_segment_distance(flat, a, b) for a, b in itertools.pairwise(ring)], axis=0)
         # nowhere nearer the joints than the half-width (ezdxf draws arcs as Béziers)
         assert d.min() >= half * (1 - 1e-3)
+        # a part that could be cut: every joint and point of the link inside its outline
+        from matplotlib.path import Path
+
+        ring_path = Path(np.column_stack([flat.real, flat.imag]))
+        inside = np.array([[z.real, z.imag] for z in joints])
+        assert ring_path.contains_points(inside).all(), link
+    for point in msp.query("POINT"):  # each point of interest on its link's plate
+        (p,) = [x for x in m.points if layer_name(x.link) == point.dxf.layer]
+        assert abs(complex(point.dxf.location.x, point.dxf.location.y) - spot[p.id]) <= tol
     assert len(msp.query('TEXT[layer=="labels"]')) >= len(m.joints) - 5
 
 

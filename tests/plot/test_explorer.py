@@ -9,6 +9,7 @@ explorer's own model, which keeps the first plan; the singular positions are tho
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -241,3 +242,15 @@ def test_a_prismatic_driver_slides_over_its_stroke():
     assert not view.assembles
     (marks,) = artists(view.strip, "singular:input_limit")
     assert sorted(marks.get_xdata()) == sorted(limits)
+
+
+def test_summary_says_two_positions_at_one_driver_value_are_two_branches():
+    # issue 38.7: "output extreme at 38.6°, output extreme at 38.6°" read as a repeat;
+    # the first try's singular curve passes the crank's 38.6° on two assembly branches
+    m = read_mechanism(EXAMPLES / "six-bar-mj-slider-first-try.json")
+    at = [p for p in singular_analysis(m).singular if p.kind == "output_extreme"]
+    same = [p for p in at if abs(math.degrees(p.q) % 360 - 38.6) < 0.05]
+    assert len(same) == 2  # the oracle: two positions there
+    words = ExplorerView(m, [], frames=36).summary()[1]
+    assert "output extreme at 38.6° on 2 assembly branches" in words
+    assert words.count("at 38.6°") == 1

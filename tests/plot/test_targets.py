@@ -121,6 +121,99 @@ def test_bad_targets_and_a_file_without_them_name_the_field(tmp_path, capsys):
     assert main(["draw", str(example_path("four-bar")), "--show", "paths", "-o", out]) == 0
 
 
+def test_function_chart_puts_the_targets_where_the_design_meets_them():
+    # issue 38.1: the chart drew the targets without the angle offset the search found,
+    # and in radians; targets from the kinematics (an independent oracle) shifted by a
+    # known offset must sit on the output curve, in degrees as every chart against q
+    from mjstruct.plot.design_charts import draw_targets
+
+    r = kinematic_analysis(read_mechanism(example_path("four-bar")), frames=12, checks=False)
+    q = r.q[2:8, 0]
+    angle = r.links["3"]["angle"][2:8]
+    offset = -1.2
+    task = {"task": "function", "link": "3", "timed": True, "angle_offset": offset,
+            "targets": [[float(a), float(b - offset)] for a, b in zip(q, angle, strict=True)],
+            "timing": [float(a) for a in q]}  # fmt: skip
+    fig = draw_targets(mechanism_from_dict(synthesised(task)))
+    ax = fig.axes[0]
+    (curve,) = artists(ax, "output")
+    (marks,) = artists(ax, "targets")
+    x, y = curve.get_xydata().T
+    ok = np.isfinite(y)
+    tx, ty = marks.get_xydata().T
+    assert np.allclose(tx, np.degrees(q) % 360.0)
+    assert np.allclose(ty, np.interp(tx, x[ok], y[ok]), atol=0.05)  # degrees
+    assert np.allclose((ty - np.degrees(angle) + 180.0) % 360.0, 180.0)
+    assert "(°)" in ax.get_xlabel() and "(°)" in ax.get_ylabel()
+    assert "offset -68.75°" in marks.get_label()
+
+
+def test_footer_says_untimed_targets_are_untimed():
+    # issue 38.4: a synthesised file keeps the driver values as met for untimed targets
+    # too; the footer said "(timed)" for them
+    task, _ = path_task()
+    for timed, words in ((False, "(untimed: in their order over a cycle)"), (True, "(timed)")):
+        entry = {**task, "timing": [0.1 * k for k in range(len(task["targets"]))],
+                 "timed": timed}  # fmt: skip
+        model = KinematicModel.build(mechanism_from_dict(synthesised(entry)))
+        (about,) = artists(draw_scene(scene_at(model, layers=("paths",))), "targets:about")
+        assert about.get_text().endswith(words)
+        assert ("(timed)" in about.get_text()) == timed
+
+
+def test_a_link_that_carries_a_point_is_the_plate_through_it_in_every_frame():
+    # issue 38.5: the four-bar's coupler point M was a dot floating beside bar A-B
+    from matplotlib.path import Path
+
+    from mjstruct.plot.animation import FrameRenderer
+
+    m = read_mechanism(example_path("four-bar"))
+    r = kinematic_analysis(m, frames=6, checks=False)  # the oracle: another entry point
+    scene = scene_over_cycle(KinematicModel.build(m), 6, ())
+    renderer = FrameRenderer(scene, dpi=30)
+    for k in (0, 3):
+        renderer.drawing.show(k)
+        (plate,) = artists(renderer.drawing.ax, "link:2")
+        outline = Path(plate.get_xy())
+        corners = [complex(r.joints[j]["x"][k], r.joints[j]["y"][k]) for j in ("A", "B")]
+        corners.append(complex(r.points["M"]["x"][k], r.points["M"]["y"][k]))
+        # each of A, B and M is a corner of the plate (the hull of three points)
+        xy = plate.get_xy()
+        for z in corners:
+            assert np.min(np.hypot(xy[:, 0] - z.real, xy[:, 1] - z.imag)) < 1e-9
+        inside = sum(corners) / 3
+        assert outline.contains_point((inside.real, inside.imag))
+
+
+def test_labels_keep_off_the_target_crosses():
+    # issue 38.5: a label over a target cross hid it; crosses put where the labels of
+    # the plain drawing are must push those labels elsewhere
+    def labels_at(data: dict) -> tuple[list, np.ndarray]:
+        plt.close("all")
+        scene = scene_at(KinematicModel.build(mechanism_from_dict(data)), 1.0, ("paths",))
+        ax = draw_scene(scene)
+        fig = ax.get_figure()
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        found = [a for a in artists(ax, "label") if a.get_gid().startswith("label:")]
+        boxes = [a.get_window_extent(renderer) for a in found]
+        return list(zip(found, boxes, strict=True)), ax.transData
+
+    plain = mechanism_to_dict(read_mechanism(example_path("four-bar")))
+    before, to_data = labels_at(plain)
+    names = ("label:joint:A", "label:joint:B", "label:point:M", "label:link:2")
+    spots = [b for a, b in before if a.get_gid() in names]
+    assert len(spots) == 4
+    centres = np.array([[(b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2] for b in spots])
+    targets = to_data.inverted().transform(centres)
+    task = {"task": "path", "point": "M", "targets": targets.tolist()}
+    after, to_data = labels_at(synthesised(task))
+    crosses = to_data.transform(targets)
+    for label, box in after:
+        for x, y in crosses:
+            assert not box.contains(x, y), label.get_gid()
+
+
 def test_a_target_too_far_out_to_draw_is_refused_naming_it(tmp_path, capsys):
     # issue 37: a target at 1e300 was drawn pressed into the picture's corner
     import json

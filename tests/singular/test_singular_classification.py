@@ -297,7 +297,11 @@ def test_the_fourbar_ms_report_and_the_explorer_show_the_classes(
     task.write_text('{"task": "fourbar-ms", "ms": "MS2"}', encoding="utf-8")
     assert main(["synthesize", str(task), "-o", str(Path(str(tmp_path)) / "out.json")]) == 0
     out = capsys.readouterr().out
-    assert "fold arc (dwell) 0.0000 to 180.0000  III/C//П" in out
+    # the built four-bar's singular report, as `singular` prints it, classes included
+    assert (
+        "fold arc: output dwells at 0.0000 deg for q from 0.0000 to 180.0000 deg, "
+        "O1 B coinciding: III/C//П" in out
+    )
 
     from mjstruct.plot.explorer_view import ExplorerView
 

@@ -1,5 +1,6 @@
 """``mjstruct atlas --dof F --links n [--mj] [--fractionated]``: all non-isomorphic
-admissible chains; ``--assur``: Assur groups instead."""
+admissible chains; ``--assur``: Assur groups instead; ``--gears``: one-DOF epicyclic gear
+trains (rotation and displacement graphs)."""
 
 from __future__ import annotations
 
@@ -18,6 +19,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mj", action="store_true", help="also chains with multiple joints")
     p.add_argument("--fractionated", action="store_true", help="also chains with a cut vertex")
     p.add_argument("--assur", action="store_true", help="Assur groups with n links instead")
+    p.add_argument(
+        "--gears", action="store_true", help="one-DOF epicyclic gear trains with n links instead"
+    )
     p.add_argument(
         "--workers",
         type=int,
@@ -53,10 +57,14 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(f"--links: need at least one link, got {args.links}")
     if args.workers < 1:
         raise MechanismError(f"--workers: need at least 1, got {args.workers}")
+    if args.gears:
+        _check_gear_flags(args)
     if args.draw is not None:
         _check_sheet(args)
     if args.assur:
         return _run_assur(args)
+    if args.gears:
+        return _run_gears(args)
     if args.dof < 1:
         raise MechanismError(f"--dof: need F >= 1, got {args.dof}")
     from mjstruct.synthesis.names import chain_inversions, familiar_names
@@ -194,5 +202,54 @@ def _run_assur(args: argparse.Namespace) -> int:
                 f"class {g.klass} order {g.order}  internal {[list(j) for j in g.joints]}  "
                 f"external on {list(g.external)}"
             )
+    emit_text("\n".join(lines))
+    return 0
+
+
+def _check_gear_flags(args: argparse.Namespace) -> None:
+    """``--gears`` lists one-DOF trains of simple turning pairs: refuse the chain flags."""
+    for flag, given in (
+        ("--assur", args.assur),
+        ("--mj", args.mj),
+        ("--fractionated", args.fractionated),
+        ("--draw", args.draw is not None),
+        ("--dof", args.dof != 1),
+        ("--scheduler", args.scheduler is not None),
+        ("--large", args.large),
+    ):
+        if given:
+            raise MechanismError(f"{flag}: not with --gears (the one-DOF gear-train atlas)")
+
+
+def _run_gears(args: argparse.Namespace) -> int:
+    """``mjstruct atlas --gears --links n``."""
+    from mjstruct.gears.atlas import egt_atlas
+    from mjstruct.synthesis.parallel import ProgressBar
+
+    bar = ProgressBar.for_cli(f"gear trains n={args.links}", args.json)
+    with flag_names(n="--links", workers="--workers"):
+        a = egt_atlas(args.links, progress=bar, workers=args.workers)
+    if args.json:
+        emit_json(
+            {
+                "n": a.n,
+                "count": a.count,
+                "displacement_count": a.displacement_count,
+                "trains": [t.to_dict() for t in a.trains],
+            }
+        )
+        return 0
+    lines = [
+        f"one-DOF epicyclic gear trains, n = {a.n}: {a.count} rotation graphs, "
+        f"{a.displacement_count} displacement graphs"
+    ]
+    if args.list:
+        for t in a.trains:
+            gears = " ".join(f"{x}-{y}/{c}" for x, y, c in t.gears)
+            lines.append(f"{t.canonical}  gears (a-b/carrier) {gears}")
+            for d in t.displacements:
+                lines.append(
+                    f"    axes {' '.join('{' + ','.join(map(str, x)) + '}' for x in d.axes)}"
+                )
     emit_text("\n".join(lines))
     return 0

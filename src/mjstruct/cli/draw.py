@@ -6,6 +6,7 @@ vectors, paths).  Also the arguments and checks that ``animate`` and ``plot`` sh
 from __future__ import annotations
 
 import argparse
+import math
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.cli.output import driver_list
@@ -40,7 +41,10 @@ def add_layer_arguments(p: argparse.ArgumentParser) -> None:
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_model_arguments(p)
     p.add_argument(
-        "--q", help="driver value(s) Q1,Q2 to draw at (default: the reference configuration)"
+        "--q",
+        help="driver value(s) Q1,Q2 to draw at (default: the reference configuration); "
+        "an angle in degrees as 45deg, in radians as 0.8rad or a bare 0.8 (radians, as "
+        "the JSON); a slide in the file's length unit",
     )
     add_layer_arguments(p)
     add_angle_argument(p)
@@ -122,16 +126,62 @@ def layer_options(args: argparse.Namespace, model: KinematicModel) -> tuple[Any,
     return layers, paths
 
 
-def _driver_values(text: str, model: KinematicModel) -> list[float]:
-    try:
-        values = [float(x) for x in text.split(",")]
-    except ValueError:
-        raise MechanismError(f"--q: expected numbers Q1,Q2, got {text!r}") from None
-    if len(values) != len(model.drivers) or not all(v == v and abs(v) < 1e300 for v in values):
+#: what ``--q`` may end with: the unit of a revolute driver's angle
+ANGLE_SUFFIXES = {"deg": 1.0, "°": 1.0, "rad": 0.0}
+
+
+def driver_values(text: str, model: KinematicModel, warnings: list[str]) -> list[float]:
+    """``--q Q1,Q2`` in the model's units (radians, lengths).
+
+    A revolute driver's value may carry its unit, ``45deg`` (or ``45°``) or ``0.8rad``;
+    a bare number is radians, as it always was (a bare value beyond a full turn, more
+    likely meant in degrees, adds a warning saying so).  A slide is in the file's
+    length unit and takes no suffix.
+
+    >>> from mjstruct.io import read_mechanism
+    >>> from mjstruct.catalog_files import example_path
+    >>> from mjstruct.kinematics.model import KinematicModel
+    >>> model = KinematicModel.build(read_mechanism(example_path("four-bar")))
+    >>> [round(v, 6) for v in driver_values("90deg", model, [])]
+    [1.570796]
+    """
+    parts = text.split(",")
+    if len(parts) != len(model.drivers):
         raise MechanismError(
             f"--q: expected {len(model.drivers)} finite value(s), one per driver "
             f"({', '.join(model.drivers)})"
         )
+    values: list[float] = []
+    for part, driver in zip(parts, model.drivers, strict=True):
+        word = part.strip().lower()
+        unit = next((u for u in ANGLE_SUFFIXES if word.endswith(u)), None)
+        number = word[: len(word) - len(unit)].strip() if unit else word
+        try:
+            v = float(number)
+        except ValueError:
+            raise MechanismError(
+                f"--q: expected numbers Q1,Q2 (angles may end in deg or rad), got {text!r}"
+            ) from None
+        if not (v == v and abs(v) < 1e300):
+            raise MechanismError(
+                f"--q: expected {len(model.drivers)} finite value(s), one per driver "
+                f"({', '.join(model.drivers)})"
+            )
+        revolute = model.mechanism.joint(driver).kind == "R"
+        if unit is not None and not revolute:
+            raise MechanismError(
+                f"--q: driver {driver} is a slide, in the file's length unit; "
+                f"{unit!r} is for angles"
+            )
+        if unit is not None and ANGLE_SUFFIXES[unit]:
+            v = math.radians(v)
+        elif unit is None and revolute and abs(v) > 2 * math.pi:
+            warnings.append(
+                f"--q {number} for {driver} is taken as radians (a number without a unit "
+                f"is; {math.degrees(v) % 360:.1f}° after whole turns); write {number}deg "
+                "for degrees"
+            )
+        values.append(v)
     return values
 
 
@@ -150,7 +200,8 @@ def run(args: argparse.Namespace) -> int:
         return _structural(args, m)
     model = read_model(args)
     layers, paths = layer_options(args, model)
-    q = None if args.q is None else _driver_values(args.q, model)
+    notes: list[str] = []
+    q = None if args.q is None else driver_values(args.q, model, notes)
 
     import matplotlib
 
@@ -160,7 +211,7 @@ def run(args: argparse.Namespace) -> int:
 
     scene = scene_at(model, q, layers, speed=args.speed, paths=paths, stroke=args.stroke)
     write_drawing(scene, args.output, dpi=args.dpi, name="-o", radians=args.radians)
-    warnings = list(scene.motion.warnings)
+    warnings = notes + list(scene.motion.warnings)
     ok = bool(scene.motion.valid[-1])
     if not ok:
         values = ", ".join(f"{v:.9g}" for v in scene.motion.q[-1])
@@ -183,7 +234,8 @@ def _cad(args: argparse.Namespace) -> int:
         if value is not None:
             raise MechanismError(f"{flag}: a .dxf holds the links' outlines only, no layers")
     model = read_model(args)
-    q = None if args.q is None else _driver_values(args.q, model)
+    notes: list[str] = []
+    q = None if args.q is None else driver_values(args.q, model, notes)
     from mjstruct.plot.dxf import write_dxf
     from mjstruct.plot.scene import scene_at
     from mjstruct.plot.scheme import q_text
@@ -195,7 +247,7 @@ def _cad(args: argparse.Namespace) -> int:
     name = model.mechanism.name or "mechanism"
     info = {"layers": [], "q": [float(v) for v in scene.motion.q[-1]], "assembles": True}
     what = f"DXF of {name} at q = {at}: {links} link layers and the frame"
-    return finish(args, "draw", info, list(scene.motion.warnings), what)
+    return finish(args, "draw", info, notes + list(scene.motion.warnings), what)
 
 
 def _structural(args: argparse.Namespace, m: Any) -> int:

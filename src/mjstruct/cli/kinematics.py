@@ -137,5 +137,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(r.to_dict())
     else:
-        emit_text(render(r))
+        text = render(r)
+        if args.csv:  # as draw, plot and animate say what they wrote
+            text += f"\nwrote {args.csv} (the table: {args.frames} frames, one row each)"
+        emit_text(text)
     return 0

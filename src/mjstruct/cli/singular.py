@@ -1,8 +1,9 @@
 """``mjstruct singular FILE``: input limits, output extremes, change points, clearance zones.
 
 The text report is written for people: angles in degrees within one turn (0 to 360,
-4 decimals), the positions in that order, and the paper's labels said in words (system
-(4), formula (3)); the JSON keeps the contract's numbers (radians, continued from the
+4 decimals; the input's and the output's alike, as on the charts), the positions in
+that order, and the paper's labels said in words (system (4), formula (3)); the JSON
+keeps the contract's numbers (radians, continued from the
 reference configuration).
 
 References
@@ -23,6 +24,7 @@ from mjstruct.cli.output import emit_json, emit_text, flag_names
 from mjstruct.errors import MechanismError
 
 if TYPE_CHECKING:
+    from mjstruct.mechanism import Mechanism
     from mjstruct.singular.analysis import SingularAnalysis, SingularPosition
     from mjstruct.singular.classification import SingularClass
 
@@ -54,16 +56,39 @@ def run(args: argparse.Namespace) -> int:
         raise MechanismError(
             f"--clearance: {args.clearance:g} is too large (at most {MAX_CLEARANCE:g})"
         )
-    if args.exact and args.clearance is None:
-        raise MechanismError("--exact: needs --clearance")
     m = read_mechanism(args.file)
+    clearance, kept = args.clearance, None
+    if clearance is None:
+        clearance = kept = file_clearance(m, MAX_CLEARANCE)
+    if args.exact and clearance is None:
+        raise MechanismError("--exact: needs --clearance")
     with flag_names(output="--output", clearance="--clearance"):
-        r = singular_analysis(m, output=args.output, clearance=args.clearance, exact=args.exact)
+        r = singular_analysis(m, output=args.output, clearance=clearance, exact=args.exact)
     if args.json:
         emit_json(r.to_dict())
     else:
-        emit_text(render(r))
+        text = render(r)
+        if kept is not None:
+            text += (
+                f"\nclearance D = {kept:g} from the file (synthesis.clearance, the task's); "
+                "--clearance D overrides it"
+            )
+        emit_text(text)
     return 0
+
+
+def file_clearance(m: Mechanism, largest: float) -> float | None:
+    """The clearance a ``fourbar-ms`` synthesis kept in the file (its ``synthesis`` key),
+    checked as ``--clearance`` is; None where the file has none."""
+    entry = m.extra.get("synthesis")
+    if not isinstance(entry, dict) or "clearance" not in entry:
+        return None
+    v = entry["clearance"]
+    if isinstance(v, bool) or not isinstance(v, int | float) or not 0 <= v <= largest:
+        raise MechanismError(
+            f"synthesis.clearance: expected a number from 0 to {largest:g}, got {v!r}"
+        )
+    return float(v)
 
 
 #: what each kind of singular position means, for the legend under the table
@@ -157,7 +182,7 @@ def render(r: SingularAnalysis) -> str:
     lines.append(f"  {'kind':<15} {q_head:>10} {'output (deg)':>13}  {'class':<9} joints in line")
     for p in order:
         lines.append(
-            f"  {p.kind:<15} {_q(p, r.revolute):>10} {_deg(p.output_angle):>13}  "
+            f"  {p.kind:<15} {_q(p, r.revolute):>10} {_q_value(p.output_angle, True):>13}  "
             f"{_notation(p.classification):<9} {' '.join(p.collinear) or '-'}"
         )
         for z in p.zone or ():
@@ -184,7 +209,7 @@ def render(r: SingularAnalysis) -> str:
         what = (
             "input locked"
             if a.kind == "input_limit"
-            else f"output dwells at {_deg(a.output_angle or 0.0)} deg"
+            else f"output dwells at {_q_value(a.output_angle or 0.0, True)} deg"
         )
         span = (
             f"q = {_q_value(a.q_from, r.revolute)} {unit}".rstrip()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import textwrap
 import time
 from pathlib import Path
 from typing import Any, TextIO
@@ -110,8 +111,44 @@ def run(args: argparse.Namespace) -> int:
             out["targets_chart"] = args.targets_chart
         emit_json(out)
     else:
-        emit_text(render(result.to_dict(), args.output, args.history, args.targets_chart))
+        emit_text(render(_text_dict(result), args.output, args.history, args.targets_chart))
     return 0
+
+
+def _text_dict(result: Any) -> dict[str, Any]:
+    """The JSON object with what the text report adds: whether the targets were
+    timed (from the written file's ``synthesis`` key) and a four-bar matrix
+    synthesis's singular report."""
+    d: dict[str, Any] = result.to_dict()
+    entry = result.mechanism.extra.get("synthesis")
+    if isinstance(entry, dict) and "timed" in entry:
+        d["timed"] = entry["timed"]
+    if result.task == "fourbar-ms":
+        d["report"] = _singular_report(result.mechanism)
+    return d
+
+
+def _singular_report(m: Any) -> str:
+    """The built four-bar's singular report, as ``mjstruct singular OUT`` prints it
+    (the matrix, class, swing, time ratio, change point, positions and, with the
+    task's clearance kept in the file, their zones)."""
+    from mjstruct.cli.singular import file_clearance
+    from mjstruct.cli.singular import render as render_singular
+    from mjstruct.kinematics.tolerances import MAX_CLEARANCE
+    from mjstruct.singular.analysis import singular_analysis
+
+    lines = []
+    for point in m.points:  # the coupler point: where it is, in the task's terms
+        a, b = (complex(*(m.joint(j).at or (0.0, 0.0))) for j in ("A", "B"))
+        p = complex(*point.at)
+        uv = (p - a) * abs(b - a) / (b - a)
+        lines.append(
+            f"coupler point {point.id} at ({point.at[0]:.6g}, {point.at[1]:.6g}): "
+            f"u = {uv.real:.6g} along A -> B, v = {uv.imag:.6g} to its left, from A "
+            "(lengths in the file's unit)"
+        )
+    analysis = singular_analysis(m, clearance=file_clearance(m, MAX_CLEARANCE))
+    return "\n".join([*lines, render_singular(analysis)])
 
 
 def _check_task_outputs(args: argparse.Namespace, data: dict[str, Any]) -> None:
@@ -164,17 +201,41 @@ def _run_atlas(args: argparse.Namespace, data: dict[str, Any]) -> int:
         out["atlas_seconds"] = r.seconds
         emit_json(out)
         return 0
-    lines = [f"atlas of one-DOF chains with {args.atlas} links: {len(ranking)} candidates "
-             f"in {r.seconds:.3g} s (seed {args.seed})",
+    lines = atlas_lines(ranking, args.atlas, r.seconds, args.seed)
+    lines.append(render(_text_dict(best), args.output, args.history, args.targets_chart))
+    emit_text("\n".join(lines))
+    return 0
+
+
+def atlas_lines(ranking: list[dict[str, Any]], links: int, seconds: float, seed: int) -> list[str]:
+    """The ``--atlas`` ranking as text: one line per candidate, and the reason a
+    candidate is not feasible whole, wrapped at word boundaries under it.
+
+    >>> x = {"objective": None, "feasible": False, "name": "Watt", "frame": "0",
+    ...      "driver": "J0", "link": "2", "reason": "its plan needs iteration " * 4}
+    >>> print("\\n".join(atlas_lines([x], 6, 1.0, 0)[2:]))
+         1             -  Watt (frame 0, driver J0, point on 2)
+                        not feasible: its plan needs iteration its plan needs iteration its
+                          plan needs iteration its plan needs iteration
+    """
+    lines = [f"atlas of one-DOF chains with {links} links: {len(ranking)} candidates "
+             f"in {seconds:.3g} s (seed {seed}: each candidate's random start comes "
+             "from it and the candidate's place in the list)",
              "  rank  objective     topology (frame, driver, point's link)"]  # fmt: skip
     for k, x in enumerate(ranking, 1):
         obj = _num(x["objective"], ".4e") if x["feasible"] else "-"
         where = f"frame {x['frame']}, driver {x['driver']}, point on {x['link']}"
-        note = "" if x["feasible"] else f"  ({x['reason']})"
-        lines.append(f"  {k:4d}  {obj:>12s}  {x['name']} ({where}){note}")
-    lines.append(render(best.to_dict(), args.output, args.history, args.targets_chart))
-    emit_text("\n".join(lines))
-    return 0
+        lines.append(f"  {k:4d}  {obj:>12s}  {x['name']} ({where})")
+        if not x["feasible"]:  # the reason whole, on lines of its own
+            lines += textwrap.wrap(
+                f"not feasible: {x['reason']}",
+                width=88,
+                initial_indent=" " * 20,
+                subsequent_indent=" " * 22,
+                break_long_words=False,
+                break_on_hyphens=False,
+            )
+    return lines
 
 
 class ProgressLines:
@@ -256,7 +317,20 @@ def _num(x: Any, fmt: str = ".6g") -> str:
 def render(
     d: dict[str, Any], output: str, chart: str | None = None, targets_chart: str | None = None
 ) -> str:
-    """The text report of a ``synthesize --json`` object."""
+    """The text report of a ``synthesize --json`` object (a ``fourbar-ms`` result with
+    its singular report under ``report``)."""
+    lines = _fourbar_ms_lines(d) if d["task"] == "fourbar-ms" else _fitting_lines(d)
+    lines.append(f"wrote {output} (the designed mechanism; its targets under 'synthesis')")
+    if chart is not None:
+        lines.append(f"wrote {chart} (objective against evaluations and time)")
+    if targets_chart is not None:
+        lines.append(f"wrote {targets_chart} (the design, its traced path and the targets)")
+    return "\n".join(lines)
+
+
+def _fitting_lines(d: dict[str, Any]) -> list[str]:
+    """Path, function and motion: the objective, each target's error and where the
+    design meets it (numbered from 1, as on the charts)."""
     lines = [
         f"{d['task']} synthesis: objective {_num(d['objective'])} "
         f"(root mean square error over {len(d['errors'])} target(s)), "
@@ -267,10 +341,16 @@ def render(
     details = d.get("details", {})
     timing = details.get("timing")
     if d["errors"]:
-        lines.append("  target  error" + ("         q" if timing else ""))
+        if timing:
+            how = "prescribed" if d.get("timed", True) else "untimed: met in this order"
+            lines.append(f"  target  error       q (deg, 0-360; {how})")
+        else:
+            lines.append("  target  error")
         for i, e in enumerate(d["errors"]):
-            q = f"  {_num(timing[i], '10.6f')}" if timing and i < len(timing) else ""
-            lines.append(f"  {i:6d}  {_num(e, '.3e')}{q}")
+            q = ""
+            if timing and i < len(timing) and timing[i] is not None:
+                q = f"  {math.degrees(timing[i]) % 360.0:10.4f}"
+            lines.append(f"  {i + 1:6d}  {_num(e, '.3e')}{q}")
     if d["margins"]:
         lines.append("  constraint margins (>= 0: met)")
         for k, v in d["margins"].items():
@@ -288,33 +368,42 @@ def render(
             "  on a bound of its box (a wider region may hold a better design): "
             + ", ".join(details["on_bound"])
         )
-    lines += _singular_lines(details.get("singular"))
-    lines.append(f"wrote {output} (the designed mechanism; its targets under 'synthesis')")
-    if chart is not None:
-        lines.append(f"wrote {chart} (objective against evaluations and time)")
-    if targets_chart is not None:
-        lines.append(f"wrote {targets_chart} (the design, its traced path and the targets)")
-    return "\n".join(lines)
+    if "angle_offset" in details:
+        lines.append(
+            f"  angle offset found: {_num(math.degrees(details['angle_offset']), '.6g')} deg "
+            "(the targets' angles plus it are the output's)"
+        )
+    return lines
 
 
-def _singular_lines(singular: dict[str, Any] | None) -> list[str]:
-    """The built mechanism's singular positions and fold arcs with their classes of
-    [Four-bar clearances] (a ``fourbar-ms`` result; none for the other tasks)."""
-    if not singular:
-        return []
-    out = ["  singular positions (input angle in deg, class of [Four-bar clearances]):"]
-    for p in singular["singular"]:
-        c = p.get("classification") or {}
-        out.append(f"    {p['kind']:<15} {_turn_deg(p['q']):9.4f}  {c.get('notation', '-')}")
-    for a in singular["fold_arcs"]:
-        c = a.get("classification") or {}
-        start = _turn_deg(a["q_from"])
-        span = f"{start:.4f} to {start + math.degrees(a['q_to'] - a['q_from']):.4f}"
-        what = "locked input" if a["kind"] == "input_limit" else "dwell"
-        out.append(f"    fold arc ({what}) {span}  {c.get('notation', '-')}")
-    return out
-
-
-def _turn_deg(q: float) -> float:
-    """An angle (rad) in degrees within one turn, to 1e-4 (2 pi is 0)."""
-    return round(math.degrees(q), 4) % 360.0
+def _fourbar_ms_lines(d: dict[str, Any]) -> list[str]:
+    """The matrix synthesis: the matrix and how it was found, the lengths, the
+    requirement's residuals, then the built four-bar's singular report."""
+    details = d.get("details", {})
+    solve = details.get("solve", {})
+    how = solve.get("method", "-")
+    if details.get("reference_matrix"):
+        how = f"{how}; the reference matrix {details['reference_matrix']}"
+    if solve.get("free"):
+        how += f"; solved for {', '.join(solve['free'])}"
+    if solve.get("defaults"):
+        how += f"; {', '.join(solve['defaults'])} by default"
+    ms = " ".join(_num(p) for p in details.get("MS", ()))
+    lines = [
+        f"fourbar-ms synthesis: MS = [{ms}] ({how}), "
+        f"{'feasible' if d['feasible'] else 'NOT feasible'}"
+    ]
+    lengths = details.get("lengths", {})
+    if lengths:
+        lines.append(
+            "  lengths: "
+            + ", ".join(f"{k} {_num(v)}" for k, v in lengths.items())
+            + " (the file's length unit)"
+        )
+    for what, e in zip(details.get("errors_of", ()), d["errors"], strict=False):
+        unit = " deg" if what == "swing_deg" else ""
+        lines.append(f"  requirement {what} met to {_num(e, '.2e')}{unit}")
+    report = d.get("report")
+    if report:
+        lines += ["  " + line for line in str(report).splitlines()]
+    return lines

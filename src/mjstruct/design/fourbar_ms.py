@@ -534,7 +534,8 @@ def fourbar_mechanism(
     frame line (default 60°, or the middle of the input's range where 60° does not
     assemble); ``assembly`` +1 puts B on the left of the line A -> O2, -1 on its right.
     ``coupler_point`` ``[u, v]`` adds point P on the coupler, ``u`` along A -> B and
-    ``v`` to its left of A (length unit of the frame).
+    ``v`` to its left of A, both lengths in the unit of ``frame_length`` (not
+    fractions of the coupler or the frame).
 
     >>> m = fourbar_mechanism((0.5, 1.0, 1.5))          # the shipped MS4 example
     >>> [round(c, 6) for c in m.joint("B").at]
@@ -834,6 +835,9 @@ def synthesize_fourbar_ms(task: Mapping[str, Any], *, seed: int | None = None) -
     )
     if broken:
         raise NumericalError(f"fourbar-ms: the final verdict refused the four-bar ({broken[0]})")
+    if clearance is not None:  # kept in the file: `mjstruct singular FILE` reuses it
+        entry = {**mech.extra[SYNTHESIS_KEY], "clearance": clearance}
+        mech = dataclasses.replace(mech, extra={**mech.extra, SYNTHESIS_KEY: entry})
     analysis = singular_analysis(mech, clearance=clearance)
     built = fb  # the matrix's own numbers (the file's coordinates round them)
 

@@ -532,7 +532,8 @@ class TrackProblem(FitProblem):
                 reason = reason or f"the four-bar is a {got}, not a {t.motion}"
         rms = float(np.sqrt(np.mean(sq))) if np.isfinite(sq).all() else math.inf
         feasible = check.ok and all(v >= -1e-9 for v in margins.values()) and math.isfinite(rms)
-        out = with_synthesis(m, t, [float(v) for v in check.q[:n_task]])
+        offset = float(aoff[0]) if self.angle_offset else None
+        out = with_synthesis(m, t, [float(v) for v in check.q[:n_task]], offset)
         errs = tuple(float(e) for e in errors[:n_task])
         if feasible:  # the contract's promises, re-checked from the design's own geometry
             broken = final_verdict(t, out, check.q[:n_task], errs, float(aoff[0]), frames)
@@ -540,8 +541,12 @@ class TrackProblem(FitProblem):
         return Outcome(out, rms, feasible, errs, margins, details, reason)
 
 
-def with_synthesis(m: Mechanism, task: Task, timing: list[float]) -> Mechanism:
-    """``m`` carrying the task's targets under ``synthesis`` (what a drawing shows)."""
+def with_synthesis(
+    m: Mechanism, task: Task, timing: list[float], angle_offset: float | None = None
+) -> Mechanism:
+    """``m`` carrying the task's targets under ``synthesis`` (what a drawing shows):
+    ``timing`` as met, ``timed`` (whether the task prescribed it: a function task's
+    targets carry their driver values) and a function task's ``angle_offset``."""
     d = mechanism_to_dict(m)
     entry: dict[str, Any] = {"task": task.kind}
     if task.point is not None:
@@ -550,6 +555,9 @@ def with_synthesis(m: Mechanism, task: Task, timing: list[float]) -> Mechanism:
         entry["link"] = task.link
     entry["targets"] = [[float(v) for v in row] for row in task.targets]
     entry["timing"] = timing
+    entry["timed"] = task.timing is not None or task.kind == "function"
+    if angle_offset is not None:
+        entry["angle_offset"] = angle_offset
     d[SYNTHESIS_KEY] = entry
     name = task.data.get("name") or (task.mechanism.name if task.mechanism else None)
     if name:

@@ -29,7 +29,7 @@ Examples
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from mjstruct.design.result import DesignResult
 from mjstruct.errors import MechanismError
@@ -38,6 +38,8 @@ from mjstruct.mechanism import Mechanism
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+
+    from mjstruct.kinematics.model import KinematicModel, Motion
 
 
 def draw_history(result: DesignResult, fig: Figure | None = None) -> Figure:
@@ -97,29 +99,25 @@ def draw_targets(
         ax = fig.add_subplot(1, 1, 1)
     assert fig is not None
     if entry.get("task") == "function":
-        link = entry["link"]
-        ax.plot(motion.q[:, 0], np.unwrap(motion.angle(link)[0]), color="tab:blue",
-                label=f"angle of link {link}")  # fmt: skip
-        timing = np.array(entry.get("timing", targets[:, 0]), float)
-        ax.plot(timing, targets[:, 1], "o", color="tab:red", label="targets")
-        ax.set_xlabel("q (rad)")
-        ax.set_ylabel("output angle (rad)")
+        _function_chart(ax, model, motion, entry)
     else:
+        from mjstruct.plot.scheme import plate_outline
+
         g = model.geometry
         for link in m.links:
-            ids = [j for j in m.link_joints[link]]
-            pts = [g.centres[j] for j in ids]
+            pts = [g.centres[j] for j in m.link_joints[link]]
             if link == m.frame:
                 ax.plot([z.real for z in pts], [z.imag for z in pts], "k^", ms=8)
                 continue
-            loop = pts + pts[:1] if len(pts) > 2 else pts
+            # the link as the part: the hull of its joints and the points it carries
+            pts += [z for on, z in g.points.values() if on == link]
+            hull = list(plate_outline(np.array(pts, complex)))
+            loop = hull + hull[:1] if len(hull) > 2 else hull
             ax.plot([z.real for z in loop], [z.imag for z in loop], "-", color="0.35", lw=2)
         point = entry["point"]
         if point in g.points:
             link, z0 = g.points[point]
             path = motion.point(link, z0)[0]
-            anchor = g.centres[next(iter(m.link_joints[link]))]
-            ax.plot([anchor.real, z0.real], [anchor.imag, z0.imag], ":", color="0.35")
         else:
             path = motion.centre(point)[0]
             z0 = g.centres[point]
@@ -144,6 +142,44 @@ def draw_targets(
     if len(fig.axes) == 1:
         fig.tight_layout()
     return fig
+
+
+def _function_chart(ax: Axes, model: KinematicModel, motion: Motion, entry: Any) -> None:
+    """The output angle against the driver, in degrees as every chart against q, with
+    the targets where the design meets them: at the driver values as met, their angles
+    moved by the common offset the search found (``angle_offset`` tasks)."""
+    import numpy as np
+
+    from mjstruct.plot.charts import ChartData
+    from mjstruct.plot.targets import read_targets
+
+    targets = read_targets(entry)
+    link = str(entry["link"])
+    data = ChartData(model, motion, 1.0, None)
+    x, y = data.curve(motion.angle(link)[0], angle=data.degrees)
+    ax.plot(x, y, color="tab:blue", label=f"angle of link {link}", gid="output")
+    q = np.array(targets.timing if targets.timing is not None else targets.values, float)
+    goal = targets.angles + targets.angle_offset
+    if data.degrees:
+        q, goal = np.degrees(q) % 360.0, np.degrees(goal)
+        # each target's angle by whole turns the nearest to the curve there
+        ok = np.isfinite(y)
+        near = np.interp(q, x[ok], y[ok]) if ok.any() else goal
+        goal = goal - 360.0 * np.round((goal - near) / 360.0)
+    offset = ""
+    if targets.angle_offset:
+        value = math.degrees(targets.angle_offset) if data.degrees else targets.angle_offset
+        offset = f" + offset {value:.4g}{'°' if data.degrees else ' rad'}"
+    ax.plot(q, goal, "o", color="tab:red", mfc="none", label=f"targets{offset}", gid="targets")
+    for k, (a, b) in enumerate(zip(q, goal, strict=True), 1):
+        ax.annotate(str(k), (a, b), textcoords="offset points", xytext=(5, -9), fontsize=7)
+    d = model.drivers[0]
+    unit = "°" if data.degrees else ("rad" if model.mechanism.joint(d).kind == "R" else "length")
+    ax.set_xlabel(f"q: {'angle' if unit != 'length' else 'slide'} of driver {d} ({unit})")
+    ax.set_ylabel(f"output angle of link {link} ({'°' if data.degrees else 'rad'})")
+    if data.degrees:
+        ax.set_xlim(0.0, 360.0)
+        ax.set_xticks(np.arange(0, 361, 45))
 
 
 def write_targets_chart(m: Mechanism, path: str, name: str = "path") -> None:

@@ -2,9 +2,10 @@
 
 Owns :func:`write_dxf` (ezdxf, the optional ``cad`` extra): one layer per moving link
 (``link-ID``) holding its outline, a binary link as a bar with rounded ends, a
-ternary or higher link as a plate (the hull of its joints grown by the bar's
-half-width, corners rounded), a straight ternary link as a bar between its extreme
-joints, and a pin hole at each of its joints; the frame on layer ``frame``: a hole at
+ternary or higher link, or any link carrying a point off its bar, as a plate (the
+hull of its joints and points grown by the bar's half-width, corners rounded: every
+point of the link lies inside), a straight link as a bar between its extreme
+joints or points, and a pin hole at each of its joints; the frame on layer ``frame``: a hole at
 each frame pivot with a cross through it, and the guide lines of sliders on the
 frame; slider blocks as rectangles on their link's layer, guides of moving links as
 lines on the carrier's layer; joint ids as text on layer ``labels``; the gears' pitch
@@ -40,7 +41,7 @@ from mjstruct.errors import MechanismError
 from mjstruct.plot.files import check_output, write_atomically
 from mjstruct.plot.gear_artists import drawn_gears
 from mjstruct.plot.scene import Scene, anchor_positions, duplicate_joint, guide_sides
-from mjstruct.plot.scheme import bar_ends, is_bar, link_outline
+from mjstruct.plot.scheme import bar_ends, is_bar, link_outline, plate_outline
 from mjstruct.typing import ComplexArray
 
 #: how ``pip`` names what writing DXF needs
@@ -200,35 +201,15 @@ def _block(msp: Any, c: complex, u: complex, hole: float, layer: str) -> None:
 
 
 def _outline(msp: Any, pts: ComplexArray, half: float, layer: str) -> None:
-    """A link's outline: the convex hull of its joints grown by ``half``, the corners
-    rounded (two joints, or joints on one line: a bar with rounded ends)."""
+    """A link's outline: the convex hull of its joints and points grown by ``half``,
+    the corners rounded (two of them, or all on one line: a bar with rounded ends)."""
     if len(pts) == 2 or is_bar(pts):
         a, b = bar_ends(pts)
         hull = [a, b]
     else:
-        hull = _hull(pts)
+        hull = list(plate_outline(pts))
     msp.add_lwpolyline(_rounded(hull, half), format="xyb", close=True,
                        dxfattribs={"layer": layer})  # fmt: skip
-
-
-def _hull(pts: ComplexArray) -> list[complex]:
-    """Convex hull, counter-clockwise (monotone chain)."""
-    p = sorted({(float(z.real), float(z.imag)) for z in pts})
-
-    def cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower: list[tuple[float, float]] = []
-    for q in p:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], q) <= 0:
-            lower.pop()
-        lower.append(q)
-    upper: list[tuple[float, float]] = []
-    for q in reversed(p):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], q) <= 0:
-            upper.pop()
-        upper.append(q)
-    return [complex(x, y) for x, y in lower[:-1] + upper[:-1]]
 
 
 def _rounded(hull: list[complex], half: float) -> list[tuple[float, float, float]]:

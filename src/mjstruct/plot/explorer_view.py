@@ -427,6 +427,33 @@ class ExplorerView:
             return f"{v:.4g}"
         return f"{v:.4g} rad" if self.radians else f"{v:.1f}°"
 
+    def singular_words(self, positions: Sequence[SingularPosition]) -> str:
+        """The singular positions in the driver's order; positions of one kind at one
+        driver value as shown are on different assembly branches, and said so, with
+        the output's angle on each where those differ ("output extreme at 38.6° on 2
+        assembly branches (output at 12.5°, 190.1°)")."""
+        groups: dict[tuple[str, str], list[SingularPosition]] = {}
+        for p in sorted(positions, key=lambda p: (self.display(p.q), p.output_angle)):
+            groups.setdefault((p.kind, self.text(p.q)), []).append(p)
+        words = []
+        for (kind, at), group in groups.items():
+            classes = "".join(dict.fromkeys(_notation(p.classification) for p in group))
+            if len(group) == 1:
+                words.append(f"{KIND_WORDS[kind]} at {at}{classes}")
+                continue
+            outputs = list(dict.fromkeys(self.angle_text(p.output_angle) for p in group))
+            where = f" (output at {', '.join(outputs)})" if len(outputs) == len(group) else ""
+            words.append(
+                f"{KIND_WORDS[kind]} at {at} on {len(group)} assembly branches{where}{classes}"
+            )
+        return ", ".join(words)
+
+    def angle_text(self, angle: float) -> str:
+        """A link's angle (radians) as shown: degrees in [0, 360) (``radians``: rad)."""
+        if self.radians:
+            return f"{angle % (2 * math.pi):.4g} rad"
+        return f"{math.degrees(angle) % 360.0:.1f}°"
+
     def summary(self) -> list[str]:
         """What the picture shows, in words: the assembly range, the singular
         positions, the frame shown, and what went wrong."""
@@ -449,12 +476,7 @@ class ExplorerView:
             else:
                 lines.append(f"assembles on {n} of the cycle's {self.frames} frames")
         if r is not None and r.singular:
-            ordered = sorted(r.singular, key=lambda p: self.display(p.q))
-            words = ", ".join(
-                f"{KIND_WORDS[p.kind]} at {self.text(p.q)}{_notation(p.classification)}"
-                for p in ordered
-            )
-            lines.append(f"singular positions: {words}")
+            lines.append(f"singular positions: {self.singular_words(r.singular)}")
         elif r is not None:
             lines.append("no singular positions")
         else:

@@ -2,7 +2,8 @@
 
 Owns how the mechanism itself is drawn: a hatched pivot under each frame revolute
 joint, guide lines (hatched on the frame), binary links as bars, ternary and higher
-links as filled polygons of their joint centres (a straight one as a bar), revolute
+links as plates, the convex hull of their joint centres and points (a straight one as a
+bar; a binary link that carries a point off its line is a plate too), revolute
 joints as pins (a multiple joint with one dot per link on a ring), prismatic joints
 as blocks, the driver's arc or arrow, joint and link labels, points of interest, the
 traced paths and the links' colours (by Assur group on that layer); gears through
@@ -82,7 +83,9 @@ def link_colours(scene: Scene) -> dict[str, Any]:
 
 
 def link_outline(scene: Scene, link: str) -> list[str]:
-    """Keys of the distinct points outlining ``link`` (joint centres, guide origins)."""
+    """Keys of the distinct points outlining ``link``: its joint centres (guide origins,
+    blocks) and the points it carries (coupler points, centres of mass), so that a
+    link's bar or plate holds every point of it: a part that could be made."""
     model = scene.model
     geom = model.geometry
     tol = 1e-9 * model.scale
@@ -99,7 +102,25 @@ def link_outline(scene: Scene, link: str) -> list[str]:
             continue
         seen.append(z)
         keys.append(key)
+    if len(keys) < 2:
+        return keys  # a slider block: drawn as a block, its points beside it
+    for pid, (on, z) in geom.points.items():
+        if on == link and not any(abs(z - s) <= tol for s in seen):
+            seen.append(z)
+            keys.append(pid)
     return keys
+
+
+def outline_reference(scene: Scene, keys: list[str]) -> ComplexArray:
+    """Where the outline's points are in the file's geometry (the reference)."""
+    geom = scene.model.geometry
+    return np.array(
+        [
+            geom.points[k][1] if k in geom.points else geom.centres[anchor_joint(k, geom.centres)]
+            for k in keys
+        ],
+        np.complex128,
+    )
 
 
 def is_bar(z: ComplexArray) -> bool:
@@ -121,8 +142,27 @@ def bar_ends(z: ComplexArray) -> tuple[complex, complex]:
 
 
 def plate_outline(z: ComplexArray) -> ComplexArray:
-    """The points ``z`` of a plate in the order they go round its centre."""
-    return np.asarray(z[np.argsort(np.angle(z - z.mean()))], np.complex128)
+    """The plate through the points ``z``: their convex hull, counter-clockwise (a
+    point inside it is on the plate, not a corner of it; monotone chain).
+
+    >>> plate_outline(np.array([0, 2, 2 + 2j, 1 + 0.5j, 2j]))
+    array([0.+0.j, 2.+0.j, 2.+2.j, 0.+2.j])
+    """
+    p = sorted({(float(w.real), float(w.imag)) for w in z})
+
+    def cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    def chain(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        out: list[tuple[float, float]] = []
+        for q in points:
+            while len(out) >= 2 and cross(out[-2], out[-1], q) <= 0:
+                out.pop()
+            out.append(q)
+        return out
+
+    hull = chain(p)[:-1] + chain(p[::-1])[:-1]
+    return np.array([complex(x, y) for x, y in hull], np.complex128)
 
 
 def _xy(z: Any) -> list[tuple[float, float]]:
@@ -146,6 +186,8 @@ class SchemeArtists:
         self._arrows: list[tuple[ComplexArray, ComplexArray]] = []
         #: where the couples' arcs are drawn, over the frames
         self._turns: list[ComplexArray] = []
+        #: the target crosses of a synthesised mechanism's task (labels keep off them)
+        self._targets = [complex(t) for t in scene.targets.points] if scene.targets else []
         #: label directions chosen at a point in the frame being shown (key -> directions)
         self._taken: dict[str, list[complex]] = {}
         #: the symbols' sizes (pin radius): the first scene's, kept by :meth:`rebind`
@@ -202,6 +244,7 @@ class SchemeArtists:
         self.scene = scene
         self.anchors = anchor_arrays(scene)
         self._arrows = _arrow_tails(scene)
+        self._targets = [complex(t) for t in scene.targets.points] if scene.targets else []
         self._turns = [at for fl in scene.forces.values() for _, at, _ in fl.couples]
         for joint, (pivot, hatching) in self.grounds.items():
             tri, segs = self._ground_shape(scene.model.geometry.centres[joint])
@@ -303,8 +346,7 @@ class SchemeArtists:
         colour = self.colours[link]
         # a rigid link keeps its shape: whether it is a bar is seen in the file's geometry
         # (every outline key is a joint's own centre there)
-        centres = self.scene.model.geometry.centres
-        if is_bar(np.array([centres[anchor_joint(key, centres)] for key in keys])):
+        if is_bar(outline_reference(self.scene, keys)):
             (bar,) = self.ax.plot(
                 [], [], lw=5, color=colour, solid_capstyle="round", zorder=3, gid=f"link:{link}"
             )
@@ -316,7 +358,7 @@ class SchemeArtists:
             self._add([bar], update_bar)
             return
         plate = Polygon(
-            np.zeros((len(keys), 2)),
+            np.zeros((3, 2)),
             closed=True,
             facecolor=colour,
             alpha=0.45,
@@ -451,6 +493,7 @@ class SchemeArtists:
         model = scene.model
         m = model.mechanism
         self._arrows = _arrow_tails(scene)
+        self._targets = [complex(t) for t in scene.targets.points] if scene.targets else []
         self._turns = [at for fl in scene.forces.values() for _, at, _ in fl.couples]
         for j in m.joints:
             if j.kind == "P" and duplicate_joint(model, j.id):
@@ -516,12 +559,13 @@ class SchemeArtists:
             near = np.abs(tails[:, k] - z) <= tol
             out += list(vectors[near, k])
         out += self._taken.get(where, [])
-        # other pins close by (a label set towards one would touch it)
-        for j in m.joints:
-            if j.id != where and j.kind == "R":
-                d = at[j.id] - z
-                if tol < abs(d) <= 8.0 * scene.pin:
-                    out.append(d)
+        # other pins close by (a label set towards one would touch it), and the target
+        # crosses of a synthesised mechanism's task
+        pins = [at[j.id] for j in m.joints if j.id != where and j.kind == "R"]
+        for w in [*pins, *self._targets]:
+            d = w - z
+            if tol < abs(d) <= 8.0 * scene.pin:
+                out.append(d)
         return out
 
     def _blocks_at(self, where: str) -> list[str]:
@@ -631,6 +675,7 @@ class SchemeArtists:
         obstacles = [(at[j.id], pin * (2.2 if j.is_multiple else 1.4)) for j in m.joints
                      if j.kind == "R"]  # fmt: skip
         obstacles += [(at[p], 0.6 * pin) for p in points]
+        obstacles += [(t, 1.2 * pin) for t in self._targets]  # the task's crosses
         obstacles += [(complex(z[k]), 2.8 * pin) for z in self._turns if np.isfinite(z[k])]
         best, best_gap = 0, -np.inf
         for i, (c, offset) in enumerate(spots):

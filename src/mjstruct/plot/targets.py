@@ -54,7 +54,12 @@ class SynthesisTargets:
     points : target positions (path, motion), else empty.
     angles : target angles in radians (motion: the pose's; function: the output's).
     values : the driver values of a function task's targets, else empty.
-    timing : the prescribed driver values, when the task gives them.
+    timing : the driver values at which the design meets the targets, when the file
+        gives them.
+    timed : whether the task prescribed those driver values (``False``: untimed
+        targets, met in their order over a cycle; None: a file that does not say).
+    angle_offset : a function task's common offset of the target angles (radians),
+        found by the search (``angle_offset`` tasks), else 0.
     """
 
     task: str
@@ -63,15 +68,17 @@ class SynthesisTargets:
     angles: FloatArray
     values: FloatArray
     timing: tuple[float, ...] | None
+    timed: bool | None = None
+    angle_offset: float = 0.0
 
     def describe(self) -> str:
         """One line for the footer: what the targets are."""
         n = max(len(self.points), len(self.values))
-        timed = "timed" if self.timing is not None else "in their order over a cycle"
+        how = {True: " (timed)", False: " (untimed: in their order over a cycle)", None: ""}
         if self.task == "path":
-            return f"× {n} path targets of point {self.point} ({timed})"
+            return f"× {n} path targets of point {self.point}{how[self.timed]}"
         if self.task == "motion":
-            return f"→ {n} target poses of the moving link ({timed})"
+            return f"→ {n} target poses of the moving link{how[self.timed]}"
         return f"{n} function targets (driver value → output angle), shown on a chart"
 
 
@@ -108,17 +115,24 @@ def read_targets(data: Any) -> SynthesisTargets:
                 f"synthesis.timing: expected {len(rows)} finite numbers, one per target"
             )
         times = tuple(float(v) for v in values_t if v is not None)
+    timed = data.get("timed")
+    if timed is not None and not isinstance(timed, bool):
+        raise MechanismError("synthesis.timed: expected true or false")
+    offset = _number(data.get("angle_offset", 0.0))
+    if offset is None:
+        raise MechanismError("synthesis.angle_offset: expected a finite number (radians)")
     point = data.get("point")
     if task == "path" and point is not None and not isinstance(point, str):
         raise MechanismError("synthesis.point: expected a point id")
     empty_c = np.zeros(0, complex)
     empty_f = np.zeros(0, float)
     if task == "function":
-        return SynthesisTargets(task, None, empty_c, a[:, 1].copy(), a[:, 0].copy(), times)
+        return SynthesisTargets(task, None, empty_c, a[:, 1].copy(), a[:, 0].copy(), times,
+                                timed, offset)  # fmt: skip
     points = (a[:, 0] + 1j * a[:, 1]).astype(np.complex128)
     angles = a[:, 2].copy() if task == "motion" else empty_f
     return SynthesisTargets(task, point if task == "path" else None, points, angles, empty_f,
-                            times)  # fmt: skip
+                            times, timed)  # fmt: skip
 
 
 def _number(v: Any) -> float | None:
