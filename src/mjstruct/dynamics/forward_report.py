@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from mjstruct.dynamics.forward import ForwardMotion
-from mjstruct.dynamics.time import EXPLICIT, solver_account
+from mjstruct.dynamics.time import accuracy_text, solver_account, solver_text
 from mjstruct.output_numbers import json_list, json_number
 from mjstruct.output_numbers import text_number as _fmt
 
@@ -68,23 +68,8 @@ def forward_report(r: ForwardMotion, rows: int = 11) -> str:
         f"{len(r.drivers)} driver(s) {', '.join(r.drivers)}) {start}, "
         f"t = 0 … {_fmt(float(r.t[-1]))}",
     ]
-    if r.parameters:
-        lines.append(
-            "parameters: " + ", ".join(f"{k} = {_fmt(v)}" for k, v in sorted(r.parameters.items()))
-        )
-    kind = "explicit" if r.solver in EXPLICIT else "implicit"
-    lines.append(
-        f"solver {r.solver} ({kind}), stiffness ratio {_fmt(r.stiffness_ratio)}: {r.steps} "
-        f"steps, {r.rhs_evaluations} evaluations, {r.jacobian_evaluations} Jacobians, "
-        f"{r.lu_decompositions} LU"
-    )
-    acc = f"energy balance residual {_fmt(r.energy_residual)} (relative)"
-    if r.error is not None:
-        acc = (
-            f"error estimate |dq| {_fmt(r.error)}, |dqdot| {_fmt(r.error_qdot)} "
-            "(against a run 100x tighter); " + acc
-        )
-    lines.append(acc)
+    lines += solver_text(r)
+    lines.append(accuracy_text(r))
     if r.loads is not None and r.loads.driving is not None:
         worst = max(
             (

@@ -591,6 +591,34 @@ def solver_account(r: Any) -> dict[str, Any]:
     }
 
 
+def solver_text(r: Any) -> list[str]:
+    """The report lines of a run in time that give its parameters and what the solver
+    did (the text twin of :func:`solver_account`, for both kinds of run)."""
+    lines = []
+    if r.parameters:
+        lines.append(
+            "parameters: " + ", ".join(f"{k} = {_fmt(v)}" for k, v in sorted(r.parameters.items()))
+        )
+    kind = "implicit" if r.solver not in EXPLICIT else "explicit"
+    lines.append(
+        f"solver {r.solver} ({kind}), stiffness ratio {_fmt(r.stiffness_ratio)}: {r.steps} steps, "
+        f"{r.rhs_evaluations} evaluations, {r.jacobian_evaluations} Jacobians, "
+        f"{r.lu_decompositions} LU"
+    )
+    return lines
+
+
+def accuracy_text(r: Any) -> str:
+    """The report line of a run in time that says how accurate it is."""
+    acc = f"energy balance residual {_fmt(r.energy_residual)} (relative)"
+    if r.error is not None:
+        acc = (
+            f"error estimate |dq| {_fmt(r.error)}, |dqdot| {_fmt(r.error_qdot)} "
+            "(against a run 100x tighter); " + acc
+        )
+    return acc
+
+
 def time_json(r: TimeMotion) -> dict[str, Any]:
     """The JSON object of ``mjstruct dynamics FILE --time T`` (no NaN: null)."""
     return {
@@ -617,29 +645,14 @@ def time_report(r: TimeMotion, rows: int = 11) -> str:
         f"{r.name or 'mechanism'}: motion in time {start}, driver {r.driver}, "
         f"t = 0 … {_fmt(float(r.t[-1]))}",
     ]
-    if r.parameters:
-        lines.append(
-            "parameters: " + ", ".join(f"{k} = {_fmt(v)}" for k, v in sorted(r.parameters.items()))
-        )
-    kind = "implicit" if r.solver not in EXPLICIT else "explicit"
-    lines.append(
-        f"solver {r.solver} ({kind}), stiffness ratio {_fmt(r.stiffness_ratio)}: {r.steps} steps, "
-        f"{r.rhs_evaluations} evaluations, {r.jacobian_evaluations} Jacobians, "
-        f"{r.lu_decompositions} LU"
-    )
+    lines += solver_text(r)
     coeff = (
         f"interpolated on {r.table_points} points a turn (relative error {_fmt(r.table_error)})"
         if r.coefficients == "table"
         else "exact"
     )
     lines.append(f"coefficients V, W, Q: {coeff}")
-    acc = f"energy balance residual {_fmt(r.energy_residual)} (relative)"
-    if r.error is not None:
-        acc = (
-            f"error estimate |dq| {_fmt(r.error)}, |dqdot| {_fmt(r.error_qdot)} "
-            "(against a run 100x tighter); " + acc
-        )
-    lines.append(acc)
+    lines.append(accuracy_text(r))
     n = len(r.t)
     idx = np.unique(np.linspace(0, n - 1, min(rows, n)).round().astype(int))
     lines.append(f"  {'t':>12}  {'q':>12}  {'qdot':>12}  {'qddot':>12}")
