@@ -62,6 +62,22 @@ def expect_number(value: object, parameter: str, *, finite: bool = True) -> floa
     return number
 
 
+def expect_id(value: object, parameter: str) -> str:
+    """An id as text: a string or an integer (a bool is neither), else raise naming
+    ``parameter``; one rule for the ids of links, joints, points, gears and elements.
+
+    >>> expect_id(3, "links"), expect_id("O1", "drivers")
+    ('3', 'O1')
+    >>> expect_id(True, "gears[0].id")
+    Traceback (most recent call last):
+    ...
+    mjstruct.errors.MechanismError: gears[0].id: an id must be a string or an integer, got True
+    """
+    if isinstance(value, bool) or not isinstance(value, (str, int)):
+        raise MechanismError(f"{parameter}: an id must be a string or an integer, got {value!r}")
+    return str(value)
+
+
 def expect_ids(value: object, parameter: str) -> None:
     """Raise unless ``value`` is None or a list (any non-string iterable) of ids: a
     string would be iterated character by character.

@@ -38,7 +38,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from mjstruct.errors import MechanismError
+from mjstruct.errors import MechanismError, expect_id
 
 if TYPE_CHECKING:
     from mjstruct.mechanism import Mechanism
@@ -102,11 +102,11 @@ def _read_one(entry: Any, where: str, m: Mechanism) -> GearPair:
     for key in ("id", "links"):
         if key not in entry:
             raise MechanismError(f"{where}.{key}: missing")
-    gid = _ident(entry["id"], f"{where}.id")
+    gid = expect_id(entry["id"], f"{where}.id")
     links = entry["links"]
     if not isinstance(links, list) or len(links) != 2:
         raise MechanismError(f"{where}.links: expected the two links of the mesh")
-    a, b = (_ident(x, f"{where}.links") for x in links)
+    a, b = (expect_id(x, f"{where}.links") for x in links)
     if a == b:
         raise MechanismError(f"{where}.links: a gear pair joins two links, got {a!r} twice")
     for x in (a, b):
@@ -140,7 +140,7 @@ def _read_one(entry: Any, where: str, m: Mechanism) -> GearPair:
     centres = None
     if "centres" in entry:
         centres = tuple(
-            _ident(c, f"{where}.centres")
+            expect_id(c, f"{where}.centres")
             for c in _seq(entry["centres"], f"{where}.centres", count)
         )
         for c, link in zip(centres, (a, b), strict=False):
@@ -187,12 +187,6 @@ def _check_mesh(g: GearPair, where: str, m: Mechanism) -> None:
             f"apart, a {g.kind} pair of radii {', '.join(f'{r:g}' for r in g.radii)} needs "
             f"{need:.6g} ({rule})"
         )
-
-
-def _ident(value: Any, where: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, (str, int)):
-        raise MechanismError(f"{where}: ids are strings or integers, got {value!r}")
-    return str(value)
 
 
 def _seq(value: Any, where: str, count: int) -> Sequence[Any]:

@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from mjstruct.errors import MechanismError, expect_instance
+from mjstruct.errors import MechanismError, expect_id, expect_instance
 from mjstruct.gear_pairs import read_gear_pairs
 from mjstruct.mechanism import Joint, Mechanism, Point, expect_mechanism
 
@@ -202,11 +202,9 @@ def _refuse_unrepresentable(data: Any) -> None:
 
 
 def _ident(value: Any, where: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, (str, int)):
-        raise MechanismError(f"{where}: an id must be a string or an integer, got {value!r}")
-    if isinstance(value, str):
-        _refuse_surrogate(value, where)
-    return str(value)
+    ident = expect_id(value, where)
+    _refuse_surrogate(ident, where)
+    return ident
 
 
 def _xy(value: Any, where: str) -> tuple[float, float]:

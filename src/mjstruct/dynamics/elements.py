@@ -44,7 +44,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from mjstruct.dynamics.expressions import parse_expression
-from mjstruct.errors import MechanismError, expect_number
+from mjstruct.errors import MechanismError, expect_id, expect_number
 from mjstruct.kinematics.geometry import diameter
 from mjstruct.mechanism import Mechanism
 
@@ -129,12 +129,6 @@ def _a(kind: str) -> str:
     return ("an " if words[0] in "aeiou" else "a ") + words
 
 
-def _id(value: Any, where: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, (str, int)):
-        raise MechanismError(f"{where}: must be an id")
-    return str(value)
-
-
 def _point(
     spec: Any, where: str, m: Mechanism, centres: Mapping[str, complex]
 ) -> tuple[ElementPoint, frozenset[str]]:
@@ -144,7 +138,7 @@ def _point(
     if "joint" in spec:
         if set(spec) != {"joint"}:
             raise MechanismError(f"{where}: a joint point takes only 'joint'")
-        jid = _id(spec["joint"], f"{where}.joint")
+        jid = expect_id(spec["joint"], f"{where}.joint")
         if jid not in centres:
             raise MechanismError(f"{where}.joint: unknown joint {jid!r}")
         j = m.joint(jid)
@@ -157,7 +151,7 @@ def _point(
     for key in ("link", "at"):
         if key not in spec:
             raise MechanismError(f"{where}.{key}: missing")
-    link = _id(spec["link"], f"{where}.link")
+    link = expect_id(spec["link"], f"{where}.link")
     if link not in m.links:
         raise MechanismError(f"{where}.link: unknown link {link!r}")
     at = spec["at"]
@@ -170,7 +164,7 @@ def _point(
 def _joint_links(spec: Mapping[str, Any], where: str, m: Mechanism) -> tuple[str, tuple[str, str]]:
     if "joint" not in spec:
         raise MechanismError(f"{where}.joint: missing")
-    jid = _id(spec["joint"], f"{where}.joint")
+    jid = expect_id(spec["joint"], f"{where}.joint")
     if jid not in {j.id for j in m.joints}:
         raise MechanismError(f"{where}.joint: unknown joint {jid!r}")
     j = m.joint(jid)
@@ -178,7 +172,7 @@ def _joint_links(spec: Mapping[str, Any], where: str, m: Mechanism) -> tuple[str
         raw = spec["links"]
         if not isinstance(raw, (list, tuple)) or len(raw) != 2:
             raise MechanismError(f"{where}.links: must be a list of two links of joint {jid}")
-        pair = (_id(raw[0], f"{where}.links[0]"), _id(raw[1], f"{where}.links[1]"))
+        pair = (expect_id(raw[0], f"{where}.links[0]"), expect_id(raw[1], f"{where}.links[1]"))
         for i, link in enumerate(pair):
             if link not in j.links:
                 raise MechanismError(f"{where}.links[{i}]: link {link!r} is not in joint {jid}")
